@@ -1,0 +1,54 @@
+"""The ``ioc-bench`` command line: one module per subcommand, each with ``register``.
+
+Every command validates its arguments up front; bad input exits with code 2 and a
+one-line message, never a traceback. Commands that print a report take ``--json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from ioc_bench.cli.common import UsageError, fail
+
+#: Subcommand modules, in the order ``--help`` lists them.
+COMMANDS: tuple[str, ...] = ("gait", "table1", "bench", "replay")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argparse parser whose errors are one line on stderr and exit code 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        fail(f"{self.prog}: error: {message}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="ioc-bench", description="Inverse optimal control benchmark for bipedal walking.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"ioc_bench.cli.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"ioc_bench.cli.{name}":
+                raise
+            continue
+        module.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.run(args) or 0)
+    except UsageError as exc:
+        fail(f"ioc-bench {args.command}: error: {exc}")
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,94 @@
+"""Shared pieces of the CLI: argument validation, error exits and report printing."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Any, NoReturn
+
+import numpy as np
+
+
+class UsageError(Exception):
+    """Bad command-line input: reported as one line, exit code 2."""
+
+
+def fail(message: str) -> NoReturn:
+    print(message, file=sys.stderr)
+    raise SystemExit(2)
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
+    return value
+
+
+def add_json_flag(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="print the report as one JSON object on stdout")
+
+
+def to_jsonable(obj: Any) -> Any:
+    """Convert numpy scalars/arrays and nested containers for ``json.dumps``."""
+    if isinstance(obj, dict):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def print_json(data: Any) -> None:
+    print(json.dumps(to_jsonable(data), sort_keys=True))
+
+
+def progress_bar(total: int, desc: str, enabled: bool = True):
+    """A tqdm bar on stderr (disabled under ``--json`` or when stderr is not a terminal)."""
+    from tqdm import tqdm
+
+    disable = not enabled or not sys.stderr.isatty()
+    return tqdm(total=total, desc=desc, file=sys.stderr, disable=disable, leave=False, dynamic_ncols=True)
+
+
+def weights_arg(text: str) -> str:
+    """Validate a ``--weights`` value (a set name or comma-separated numbers) early."""
+    from ioc_bench.weights import parse_weights
+
+    try:
+        parse_weights(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
+
+
+def solver_dict(report: Any) -> dict[str, Any]:
+    """The solver fields every JSON report carries."""
+    return {
+        "status": report.status,
+        "success": report.success,
+        "max_violation": report.max_violation,
+        "iterations": report.iterations,
+        "wall_time": report.wall_time,
+        "objective": report.objective,
+    }

@@ -1,0 +1,85 @@
+"""``ioc-bench gait``: optimize one step, print its features, save it and its plot."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ioc_bench.cli.common import (
+    add_json_flag,
+    positive_float,
+    positive_int,
+    print_json,
+    progress_bar,
+    solver_dict,
+    weights_arg,
+)
+from ioc_bench.task import NOMINAL_SPEED
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("gait", help="optimize the walking step for given weights", description=__doc__)
+    p.add_argument("--weights", type=weights_arg, default="nominal", help="weight set name or numbers hip,knee,dtau")
+    p.add_argument("--speed", type=positive_float, default=NOMINAL_SPEED, help="average forward speed (default 0.27)")
+    p.add_argument("--out", type=Path, default=Path("demo.npz"), help="demonstration file to write (.npz)")
+    p.add_argument("--starts", type=positive_int, default=15, help="multi-start size (default 15)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the start perturbations")
+    p.add_argument("--workers", type=positive_int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--no-plot", action="store_true", help="skip the stick-figure plot")
+    add_json_flag(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ioc_bench.optimize import optimize_gait
+    from ioc_bench.task import Task
+
+    out = args.out if args.out.suffix == ".npz" else args.out.with_suffix(".npz")
+    with progress_bar(args.starts, "multi-start", enabled=not args.json) as bar:
+        demo = optimize_gait(
+            args.weights,
+            task=Task(args.speed),
+            starts=args.starts,
+            seed=args.seed,
+            workers=args.workers,
+            on_start_done=lambda done, total: bar.update(1),
+        )
+    demo.save(out)
+    plot = None
+    if not args.no_plot:
+        from ioc_bench.viz.gait_plot import plot_gait
+
+        plot = plot_gait(demo, out.with_suffix(".png"))
+    report = {
+        "weights": demo.weights,
+        "speed": demo.task.speed,
+        "features": demo.features,
+        "step_length": demo.trajectory.duration * demo.task.speed,
+        "duration": demo.trajectory.duration,
+        "solver": solver_dict(demo.solver),
+        "multistart": demo.multistart.describe() if demo.multistart else None,
+        "optima": demo.multistart.optima if demo.multistart else None,
+        "out": str(out),
+        "plot": None if plot is None else str(plot),
+    }
+    if args.json:
+        print_json(report)
+    else:
+        _print_report(report)
+    return 0 if demo.solver.success else 1
+
+
+def _print_report(r: dict) -> None:
+    w = ", ".join(f"{k}={v:.3f}" for k, v in r["weights"].items() if v)
+    print(f"weights  {w}   speed {r['speed']:g}")
+    print(f"step     length {r['step_length']:.3f}, duration {r['duration']:.3f}")
+    print("features " + "  ".join(f"{k}={v:.4e}" for k, v in r["features"].items()))
+    s = r["solver"]
+    ok = "feasible" if s["success"] else "NOT FEASIBLE"
+    print(
+        f"solver   {s['status']} ({ok}), max violation {s['max_violation']:.1e}, "
+        f"{s['iterations']} iterations, {s['wall_time']:.2f} s"
+    )
+    if r["multistart"]:
+        print(f"starts   {r['multistart']}")
+    print(f"wrote    {r['out']}" + (f" and {r['plot']}" if r["plot"] else ""))

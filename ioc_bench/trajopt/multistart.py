@@ -1,0 +1,123 @@
+"""Multi-start: solve from many starting points in worker processes, keep the best feasible.
+
+Workers are forked from a parent that has already built the solver, so they start at once
+and share nothing mutable; each start is an independent, deterministic IPOPT run, so the
+chosen optimum depends only on the starting points (that is, on the seed), never on
+scheduling. Ties in cost go to the lowest start index.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from ioc_bench.model.params import WalkerParams
+from ioc_bench.trajopt.solver import SolveResult, SolverReport, StartPoint, get_solver
+
+#: Two feasible optima are the same when their costs agree to this relative tolerance.
+SAME_OPTIMUM_RTOL = 1e-5
+
+
+@dataclass(frozen=True)
+class StartRecord:
+    """One start of a multi-start: where it came from and how its solve went."""
+
+    index: int
+    origin: str
+    report: SolverReport
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"index": self.index, "origin": self.origin} | asdict(self.report)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> StartRecord:
+        fields = dict(data)
+        return cls(int(fields.pop("index")), str(fields.pop("origin")), SolverReport(**fields))
+
+
+@dataclass(frozen=True)
+class MultiStartSummary:
+    """The spread of the optima a multi-start found."""
+
+    starts: tuple[StartRecord, ...]
+    best: int
+
+    @property
+    def feasible(self) -> list[StartRecord]:
+        return [s for s in self.starts if s.report.success]
+
+    @property
+    def optima(self) -> list[float]:
+        """Distinct feasible costs, lowest first."""
+        distinct: list[float] = []
+        for cost in sorted(s.report.objective for s in self.feasible):
+            if not distinct or abs(cost - distinct[-1]) > SAME_OPTIMUM_RTOL * abs(distinct[-1]):
+                distinct.append(cost)
+        return distinct
+
+    def describe(self) -> str:
+        optima = self.optima
+        if not optima:
+            return f"{len(self.starts)} starts, none feasible"
+        spread = (optima[-1] - optima[0]) / optima[0] * 100
+        return (
+            f"{len(self.starts)} starts, {len(self.feasible)} feasible, {len(optima)} distinct optima "
+            f"(cost {optima[0]:.6g} .. {optima[-1]:.6g}, spread {spread:.1f} %), best from start {self.best}"
+        )
+
+
+def _solve_one(args: tuple) -> SolveResult:
+    start, params, speed, weights, n_intervals = args
+    return get_solver(n_intervals).solve(start, params, speed, weights)
+
+
+def solve_starts(
+    starts: Sequence[StartPoint],
+    params: WalkerParams,
+    speed: float,
+    weights: np.ndarray,
+    n_intervals: int,
+    workers: int | None = None,
+    on_done: Callable[[int, SolveResult], None] | None = None,
+) -> list[SolveResult]:
+    """Solve from every start, in ``workers`` processes (default: all cores)."""
+    workers = min(len(starts), workers or os.cpu_count() or 1)
+    jobs = [(s, params, speed, weights, n_intervals) for s in starts]
+    results: list[SolveResult | None] = [None] * len(jobs)
+    if workers <= 1:
+        for i, job in enumerate(jobs):
+            results[i] = _solve_one(job)
+            if on_done:
+                on_done(i, results[i])
+        return results  # type: ignore[return-value]
+    get_solver(n_intervals)  # build once here; forked workers inherit it
+    with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
+        futures = {pool.submit(_solve_one, job): i for i, job in enumerate(jobs)}
+        for fut in as_completed(futures):
+            i = futures[fut]
+            results[i] = fut.result()
+            if on_done:
+                on_done(i, results[i])
+    return results  # type: ignore[return-value]
+
+
+def pick_best(results: Sequence[SolveResult], origins: Sequence[str]) -> tuple[int, MultiStartSummary]:
+    """Index of the cheapest feasible result (lowest index on ties; least violation if none)."""
+    if any(r.report.success for r in results):
+        best = min((r.report.objective, i) for i, r in enumerate(results) if r.report.success)[1]
+    else:
+        best = min((r.report.max_violation, i) for i, r in enumerate(results))[1]
+    records = tuple(StartRecord(i, o, r.report) for i, (o, r) in enumerate(zip(origins, results)))
+    return best, MultiStartSummary(records, best)
+
+
+def _context() -> mp.context.BaseContext:
+    """Fork where available (workers inherit the built solver), else spawn."""
+    methods = mp.get_all_start_methods()
+    return mp.get_context("fork" if "fork" in methods else "spawn")

@@ -1,0 +1,237 @@
+"""IPOPT on the gait NLP: built once per process, solved many times.
+
+One :class:`GaitSolver` holds two compiled IPOPT instances over the same NLP, one for
+cold starts and one tuned for warm primal-dual starts (IOC inner loops re-solve near a
+known optimum). Every solve returns a :class:`SolveResult` whose :class:`SolverReport`
+says whether it is feasible; a failed solve is a result, never an exception.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from ioc_bench.model.linkage import Linkage
+from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
+from ioc_bench.trajectory import Trajectory
+from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS, GaitNLP
+
+#: A solution is feasible when IPOPT converged and no constraint or bound is violated by more.
+FEASIBILITY_TOL = 1e-6
+
+_COMMON = {
+    "ipopt.print_level": 0,
+    "ipopt.sb": "yes",
+    "print_time": False,
+    "ipopt.tol": 1e-8,
+    "ipopt.constr_viol_tol": 1e-8,
+    "ipopt.acceptable_tol": 1e-6,
+    "ipopt.acceptable_constr_viol_tol": FEASIBILITY_TOL,
+    "ipopt.acceptable_iter": 10,
+    # The KKT systems are banded and well scaled; MUMPS' own scaling and tight
+    # pivoting only slow each factorization down (2-3x measured).
+    "ipopt.mumps_scaling": 0,
+    "ipopt.mumps_permuting_scaling": 0,
+    "ipopt.mumps_pivtol": 1e-8,
+}
+COLD_OPTIONS = _COMMON | {"ipopt.max_iter": 1500, "ipopt.mu_init": 1e-2}
+WARM_OPTIONS = _COMMON | {
+    "ipopt.max_iter": 500,
+    "ipopt.warm_start_init_point": "yes",
+    "ipopt.mu_init": 1e-6,
+    "ipopt.warm_start_bound_push": 1e-9,
+    "ipopt.warm_start_bound_frac": 1e-9,
+    "ipopt.warm_start_slack_bound_push": 1e-9,
+    "ipopt.warm_start_slack_bound_frac": 1e-9,
+    "ipopt.warm_start_mult_bound_push": 1e-9,
+}
+
+
+@dataclass(frozen=True)
+class SolverReport:
+    """How one IPOPT run went.
+
+    Attributes:
+        status: IPOPT's return status, e.g. ``Solve_Succeeded``.
+        success: IPOPT converged and the solution is feasible (see :attr:`feasible`).
+        max_violation: largest constraint or bound violation at the returned point.
+        iterations: IPOPT iterations.
+        wall_time: seconds spent in the solve.
+        objective: the weighted cost ``w . phi`` at the returned point.
+        warm: whether the solve was warm-started.
+    """
+
+    status: str
+    success: bool
+    max_violation: float
+    iterations: int
+    wall_time: float
+    objective: float
+    warm: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(frozen=True, eq=False)
+class SolveResult:
+    """A solve's trajectory and report, plus the primal-dual point for warm starts."""
+
+    trajectory: Trajectory
+    report: SolverReport
+    x: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class StartPoint:
+    """Where a solve starts: a primal point and, for a warm start, its multipliers."""
+
+    x: np.ndarray
+    lam_x: np.ndarray | None = None
+    lam_g: np.ndarray | None = None
+
+    @property
+    def warm(self) -> bool:
+        return self.lam_x is not None and self.lam_g is not None
+
+
+class GaitSolver:
+    """Compiled IPOPT solvers for the walker's gait NLP with ``n_intervals`` intervals."""
+
+    def __init__(self, n_intervals: int = DEFAULT_INTERVALS):
+        self.nlp = GaitNLP(walker_linkage(), WALKER_ROLES, n_intervals)
+        self._cold = ca.nlpsol("gait_cold", "ipopt", self.nlp.nlp, COLD_OPTIONS)
+        self._warm = ca.nlpsol("gait_warm", "ipopt", self.nlp.nlp, WARM_OPTIONS)
+
+    @property
+    def n_intervals(self) -> int:
+        return self.nlp.n_intervals
+
+    def solve(
+        self,
+        start: StartPoint,
+        params: WalkerParams,
+        speed: float,
+        weights: np.ndarray,
+        ref: np.ndarray | None = None,
+        track: np.ndarray | None = None,
+    ) -> SolveResult:
+        """Solve from ``start`` for the model ``params`` at ``speed``.
+
+        Args:
+            weights: (6,) feature weights over ``ALL_FEATURES``.
+            ref, track: optional (T, n_track) tracking reference and its weights.
+        """
+        linkage = walker_linkage(params)
+        p = self.nlp.parameter_vector(linkage, params, speed, weights, ref=ref, track=track)
+        lbx, ubx = self.nlp.variable_bounds(params)
+        x0 = np.clip(start.x, lbx, ubx)
+        args = {
+            "x0": x0,
+            "p": p,
+            "lbx": lbx,
+            "ubx": ubx,
+            "lbg": self.nlp.constraints.lb,
+            "ubg": self.nlp.constraints.ub,
+        }
+        solver = self._warm if start.warm else self._cold
+        if start.warm:
+            args |= {"lam_x0": start.lam_x, "lam_g0": start.lam_g}
+        t0 = time.perf_counter()
+        try:
+            sol = solver(**args)
+            stats = solver.stats()
+            status = str(stats.get("return_status", "unknown"))
+            iterations = int(stats.get("iter_count", -1))
+        except RuntimeError as exc:  # an evaluation error inside IPOPT
+            sol, status, iterations = (
+                {"x": x0, "lam_x": np.zeros_like(x0), "lam_g": np.zeros(len(args["lbg"]))},
+                f"error: {exc}",
+                -1,
+            )
+        wall = time.perf_counter() - t0
+        x = np.asarray(sol["x"], dtype=float).ravel()
+        report = self._report(x, p, lbx, ubx, weights, status, iterations, wall, start.warm)
+        return SolveResult(
+            trajectory=self.trajectory(x, p),
+            report=report,
+            x=x,
+            lam_x=np.asarray(sol["lam_x"], dtype=float).ravel(),
+            lam_g=np.asarray(sol["lam_g"], dtype=float).ravel(),
+        )
+
+    def _report(self, x, p, lbx, ubx, weights, status, iterations, wall, warm) -> SolverReport:
+        violation = self.max_violation(x, p, lbx, ubx)
+        converged = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+        phi = np.asarray(self.nlp.features_fn(x, p), dtype=float).ravel()
+        return SolverReport(
+            status=status,
+            success=bool(converged and violation <= FEASIBILITY_TOL),
+            max_violation=violation,
+            iterations=iterations,
+            wall_time=wall,
+            objective=float(np.dot(weights, phi)),
+            warm=warm,
+        )
+
+    def max_violation(self, x: np.ndarray, p: np.ndarray, lbx: np.ndarray, ubx: np.ndarray) -> float:
+        """Largest violation of any constraint or variable bound at ``x``."""
+        g = np.asarray(self.nlp.g_fn(x, p), dtype=float).ravel()
+        worst = max(self.nlp.constraints.violation(g).values(), default=0.0)
+        bound = float(np.max(np.maximum(np.maximum(lbx - x, x - ubx), 0.0), initial=0.0))
+        value = max(worst, bound)
+        return value if np.isfinite(value) else float("inf")
+
+    def trajectory(self, x: np.ndarray, p: np.ndarray) -> Trajectory:
+        """The :class:`Trajectory` encoded by decision vector ``x``."""
+        b = self.nlp.layout.unpack(x)
+        acc = np.asarray(self.nlp.acc_fn(x, p), dtype=float).reshape(b["q"].shape)
+        return Trajectory(
+            dt=float(np.mean(b["dt"])),
+            q=b["q"],
+            v=b["v"],
+            acc=acc,
+            tau=b["tau"],
+            lock=b["lock"],
+            pin_forces=b["force"],
+            impulses=b["impulse"],
+            lock_impulses=b["lock_impulse"],
+        )
+
+    def decision_vector(self, traj: Trajectory) -> np.ndarray:
+        """Inverse of :meth:`trajectory`: the decision vector of a recorded step."""
+        if traj.n_knots != self.nlp.n_knots:
+            raise ValueError(
+                f"trajectory has {traj.n_knots} knots but the solver uses {self.nlp.n_knots} "
+                f"({self.nlp.n_intervals} intervals)"
+            )
+        return self.nlp.layout.pack(
+            {
+                "dt": traj.dt,
+                "q": traj.q,
+                "v": traj.v,
+                "force": traj.pin_forces,
+                "tau": traj.tau,
+                "lock": traj.lock,
+                "impulse": traj.impulses,
+                "lock_impulse": traj.lock_impulses,
+            }
+        )
+
+
+@lru_cache(maxsize=4)
+def get_solver(n_intervals: int = DEFAULT_INTERVALS) -> GaitSolver:
+    """This process's solver for ``n_intervals`` (built on first use, about 2 s)."""
+    return GaitSolver(n_intervals)
+
+
+def linkage_for(params: WalkerParams) -> Linkage:
+    return walker_linkage(params)

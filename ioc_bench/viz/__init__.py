@@ -1,0 +1,1 @@
+"""Plots (matplotlib, headless). Every function writes its figure atomically and returns the path."""
