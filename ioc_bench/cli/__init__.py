@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from ioc_bench.cli.common import UsageError, fail
 
 #: Subcommand modules, in the order ``--help`` lists them.
-COMMANDS: tuple[str, ...] = ("gait", "table1", "bench", "replay")
+COMMANDS: tuple[str, ...] = ("gait", "table1", "bench", "replay", "algorithms", "ioc")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -49,3 +49,22 @@ def interpolate(times: np.ndarray, y: np.ndarray, f: np.ndarray, t: float) -> tu
         f0 * (s - 1.5 * s**2 + 2 / 3 * s**3) + fc * (2 * s**2 - 4 / 3 * s**3) + f1 * (-0.5 * s**2 + 2 / 3 * s**3)
     )
     return state, deriv
+
+
+def quadratic(times: np.ndarray, u: np.ndarray, t: float) -> np.ndarray:
+    """Control (e.g. torque) at time ``t``: the quadratic through an interval's three knots.
+
+    Hermite-Simpson evaluates the dynamics at each interval's start, midpoint and end, so
+    it treats controls as quadratic in between (Kelly 2017, section 4).
+
+    Args:
+        times: (T,) knot times, T odd.
+        u: (T, m) control values at the knots.
+        t: query time, clipped to the trajectory.
+    """
+    n_int = (len(times) - 1) // 2
+    h = times[2] - times[0]
+    i = int(np.clip((t - times[0]) // h, 0, n_int - 1))
+    k = 2 * i
+    s = float(np.clip((t - times[k]) / h, 0.0, 1.0))
+    return u[k] * (1 - 3 * s + 2 * s**2) + u[k + 1] * (4 * s - 4 * s**2) + u[k + 2] * (-s + 2 * s**2)

@@ -3,7 +3,9 @@
 One :class:`GaitSolver` holds two compiled IPOPT instances over the same NLP, one for
 cold starts and one tuned for warm primal-dual starts (IOC inner loops re-solve near a
 known optimum). Every solve returns a :class:`SolveResult` whose :class:`SolverReport`
-says whether it is feasible; a failed solve is a result, never an exception.
+says whether it is valid: IPOPT converged, constraints and bounds hold to
+:data:`FEASIBILITY_TOL` and the knee-lock complementarity to ``LOCK_TOL``. A failed solve
+is a result, never an exception.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from ioc_bench.model.linkage import Linkage
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
 from ioc_bench.trajectory import Trajectory
-from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS, GaitNLP
+from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS, LOCK_TOL, GaitNLP
 
 #: A solution is feasible when IPOPT converged and no constraint or bound is violated by more.
 FEASIBILITY_TOL = 1e-6
@@ -40,7 +42,7 @@ _COMMON = {
     "ipopt.mumps_permuting_scaling": 0,
     "ipopt.mumps_pivtol": 1e-8,
 }
-COLD_OPTIONS = _COMMON | {"ipopt.max_iter": 1500, "ipopt.mu_init": 1e-2}
+COLD_OPTIONS = _COMMON | {"ipopt.max_iter": 500, "ipopt.mu_init": 1e-3}
 WARM_OPTIONS = _COMMON | {
     "ipopt.max_iter": 500,
     "ipopt.warm_start_init_point": "yes",
@@ -61,6 +63,7 @@ class SolverReport:
         status: IPOPT's return status, e.g. ``Solve_Succeeded``.
         success: IPOPT converged and the solution is feasible (see :attr:`feasible`).
         max_violation: largest constraint or bound violation at the returned point.
+        complementarity: largest knee-lock complementarity product (valid: <= LOCK_TOL).
         iterations: IPOPT iterations.
         wall_time: seconds spent in the solve.
         objective: the weighted cost ``w . phi`` at the returned point.
@@ -70,6 +73,7 @@ class SolverReport:
     status: str
     success: bool
     max_violation: float
+    complementarity: float
     iterations: int
     wall_time: float
     objective: float
@@ -172,10 +176,12 @@ class GaitSolver:
         violation = self.max_violation(x, p, lbx, ubx)
         converged = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
         phi = np.asarray(self.nlp.features_fn(x, p), dtype=float).ravel()
+        products = float(np.max(np.asarray(self.nlp.lock_fn(x, p), dtype=float), initial=0.0))
         return SolverReport(
             status=status,
-            success=bool(converged and violation <= FEASIBILITY_TOL),
+            success=bool(converged and violation <= FEASIBILITY_TOL and products <= LOCK_TOL),
             max_violation=violation,
+            complementarity=products,
             iterations=iterations,
             wall_time=wall,
             objective=float(np.dot(weights, phi)),
@@ -189,6 +195,13 @@ class GaitSolver:
         bound = float(np.max(np.maximum(np.maximum(lbx - x, x - ubx), 0.0), initial=0.0))
         value = max(worst, bound)
         return value if np.isfinite(value) else float("inf")
+
+    def violation_of(self, traj: Trajectory, params: WalkerParams, speed: float) -> float:
+        """Largest constraint or bound violation of a recorded step under a model and task."""
+        x = self.decision_vector(traj)
+        p = self.nlp.parameter_vector(walker_linkage(params), params, speed, np.zeros(6))
+        lbx, ubx = self.nlp.variable_bounds(params)
+        return self.max_violation(x, p, lbx, ubx)
 
     def trajectory(self, x: np.ndarray, p: np.ndarray) -> Trajectory:
         """The :class:`Trajectory` encoded by decision vector ``x``."""

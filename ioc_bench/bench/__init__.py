@@ -1,0 +1,1 @@
+"""The benchmark: robustness conditions, demonstrations, cases, scores."""

@@ -1,0 +1,217 @@
+"""One benchmark case: an algorithm recovering one weight set under one condition.
+
+``run_case`` makes (or loads) the demonstration, shows the IOC what the condition lets it
+see, runs the algorithm, and scores its answer. Whatever the algorithm does (raises,
+returns NaN or negative or wrongly sized weights), the case ends in a :class:`CaseResult`
+with a status and a reason; it never raises for the algorithm's faults.
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ioc_bench._version import __version__
+from ioc_bench.bench.conditions import Condition, get_condition
+from ioc_bench.bench.demos import demonstration
+from ioc_bench.bench.scoring import trajectory_error, unit, weight_error
+from ioc_bench.features import COST_FEATURES
+from ioc_bench.ioc.algorithm import IOCResult
+from ioc_bench.ioc.problem import IOCProblem, OracleSolution, add_noise
+from ioc_bench.ioc.registry import make_algorithm
+from ioc_bench.model.params import WalkerParams
+from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
+
+#: Stream of the observation-noise generator (kept apart from the algorithm's streams).
+NOISE_STREAM = 7
+#: Proximal weight of the first scoring solve (see :func:`regenerate`).
+SCORING_PROXIMAL = 30.0
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    """The record of one case (what a results file holds).
+
+    Attributes:
+        status: the algorithm's status (``converged``, ``max_iterations``, ``infeasible``)
+            or ``failed`` (then ``reason`` says why).
+        weights: estimated weights over ``features``, unit norm (NaN if failed).
+        true_weights: the truth over ``features`` (distractors 0), unit norm.
+        weight_error: mean absolute weight difference (SPEC section 5).
+        trajectory_error: angles and angular velocities of the estimated weights' optimal
+            step versus the observed step (SPEC section 5).
+        n_solves: forward solves (trajectory optimizations) the algorithm asked for.
+        wall_time: seconds the algorithm ran.
+        history: per-iteration records as dicts.
+    """
+
+    algorithm: str
+    weight_set: str
+    condition: str
+    seed: int
+    features: tuple[str, ...]
+    status: str
+    reason: str
+    weights: tuple[float, ...]
+    true_weights: tuple[float, ...]
+    weight_error: float
+    trajectory_error: float
+    n_solves: int
+    wall_time: float
+    history: tuple[dict[str, Any], ...] = ()
+    chosen_iteration: int | None = None
+    config: dict[str, Any] = field(default_factory=dict)
+    oracle: dict[str, Any] = field(default_factory=dict)
+    notes: dict[str, Any] = field(default_factory=dict)
+    scoring_status: str = ""
+    version: str = __version__
+
+    @property
+    def failed(self) -> bool:
+        return self.status == "failed"
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> CaseResult:
+        fields = dict(data)
+        for key in ("features", "weights", "true_weights", "history"):
+            fields[key] = tuple(fields.get(key, ()))
+        return cls(**fields)
+
+
+def weight_set_label(weights: WeightSpec) -> str:
+    """A set's name, or the numbers joined by commas."""
+    if isinstance(weights, str):
+        return weights
+    return ",".join(f"{float(w):g}" for w in np.asarray(weights, dtype=float).ravel())
+
+
+def run_case(
+    algorithm: str = "log-barrier",
+    weights: WeightSpec = "nominal",
+    condition: str | Condition = "ideal",
+    seed: int = 0,
+    config: Mapping[str, Any] | None = None,
+    params: WalkerParams | None = None,
+) -> CaseResult:
+    """Run and score one case.
+
+    Args:
+        algorithm: a registered algorithm name (see :func:`ioc_bench.algorithms`).
+        weights: the true weights: a set name or numbers over (hip, knee, dtau).
+        condition: a condition name (see ``CONDITIONS``) or a :class:`Condition`.
+        seed: seed of the algorithm's random choices and of the observation noise.
+        config: overrides of the algorithm's config fields.
+        params: the true walker model (default: SPEC section 1).
+    """
+    cond = condition if isinstance(condition, Condition) else get_condition(condition)
+    true3 = parse_weights(weights)
+    algo = make_algorithm(algorithm, **dict(config or {}))
+    params = params or WalkerParams()
+    demo = demonstration(true3, params, cond.demo_task())
+    base = {
+        "algorithm": algorithm,
+        "weight_set": weight_set_label(weights),
+        "condition": cond.name,
+        "seed": seed,
+        "features": cond.features,
+        "true_weights": tuple(unit(_over(true3, cond.features))),
+        "config": algo.config_dict(),
+    }
+    if not demo.solver.success:
+        return _failed(base, f"the demonstration could not be solved ({demo.solver.status})")
+    observed = demo.trajectory
+    if cond.noise > 0:
+        observed = add_noise(observed, np.random.default_rng([seed, NOISE_STREAM]), cond.noise)
+    problem = IOCProblem(observed, cond.features, cond.ioc_params(params), cond.ioc_task(), seed=seed)
+    t0 = time.perf_counter()
+    try:
+        result = algo.fit(problem)
+    except Exception as exc:  # the algorithm's fault is a recorded result, not a crash
+        last = traceback.extract_tb(exc.__traceback__)[-1]
+        return _failed(base, f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})", problem, t0)
+    wall = time.perf_counter() - t0
+    problem_reason = _check_result(result, len(cond.features))
+    if problem_reason:
+        return _failed(base, problem_reason, problem, t0)
+    return _score(base, result, problem, wall)
+
+
+def _over(true3: np.ndarray, features: Sequence[str]) -> np.ndarray:
+    """True weights over ``features`` (features outside the cost set get 0)."""
+    return np.array([true3[COST_FEATURES.index(f)] if f in COST_FEATURES else 0.0 for f in features])
+
+
+def _check_result(result: Any, n: int) -> str:
+    if not isinstance(result, IOCResult):
+        return f"fit() returned {type(result).__name__}, not IOCResult"
+    w = np.asarray(result.weights, dtype=float).ravel()
+    if w.size != n:
+        return f"returned {w.size} weights for {n} features"
+    if not np.all(np.isfinite(w)):
+        return f"returned non-finite weights {w.tolist()} (status {result.status})"
+    if np.any(w < 0):
+        return f"returned negative weights {w.tolist()}"
+    if not np.any(w > 0):
+        return "returned all-zero weights"
+    return ""
+
+
+def regenerate(problem: IOCProblem, weights: np.ndarray) -> OracleSolution:
+    """The optimal step for ``weights`` in the observation's basin (for scoring).
+
+    Optima are local, and a plain solve from the observation may wander into another
+    basin; so a proximal solve anchored at the observation comes first and an unanchored
+    warm-started solve from it then converges to the nearby optimum. A fresh problem
+    keeps these solves out of the algorithm's oracle counts.
+    """
+    scoring = IOCProblem(problem.observed, problem.features, problem.params, problem.task)
+    near = scoring.optimize(weights, start=problem.observed, proximal=SCORING_PROXIMAL)
+    final = scoring.optimize(weights, start=near) if near.success else near
+    return final if final.success else scoring.optimize(weights, start=problem.observed)
+
+
+def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> CaseResult:
+    est = unit(np.asarray(result.weights, dtype=float))
+    regenerated = regenerate(problem, est)
+    traj_err = trajectory_error(regenerated.trajectory, problem.observed) if regenerated.success else float("nan")
+    return CaseResult(
+        **base,
+        status=result.status,
+        reason="",
+        weights=tuple(float(x) for x in est),
+        weight_error=weight_error(est, np.array(base["true_weights"])),
+        trajectory_error=traj_err,
+        n_solves=problem.stats.forward_solves,
+        wall_time=wall,
+        history=tuple(h.to_dict() for h in result.history),
+        chosen_iteration=result.chosen_iteration,
+        oracle=problem.stats.to_dict(),
+        notes=dict(result.notes),
+        scoring_status=regenerated.status,
+    )
+
+
+def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: float | None = None) -> CaseResult:
+    n = len(base["features"])
+    return CaseResult(
+        **base,
+        status="failed",
+        reason=reason,
+        weights=(float("nan"),) * n,
+        weight_error=float("nan"),
+        trajectory_error=float("nan"),
+        n_solves=problem.stats.forward_solves if problem else 0,
+        wall_time=time.perf_counter() - t0 if t0 is not None else 0.0,
+        oracle=problem.stats.to_dict() if problem else {},
+    )
+
+
+__all__ = ["WEIGHT_SETS", "CaseResult", "run_case"]

@@ -1,0 +1,90 @@
+"""``ioc-bench ioc``: run one IOC case, print its score, write its result and convergence plot."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from ioc_bench.cli.common import UsageError, add_json_flag, print_json, to_jsonable, weights_arg
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("ioc", help="run one IOC case and score it", description=__doc__)
+    p.add_argument("--algorithm", default="log-barrier", help="registered algorithm (see `ioc-bench algorithms`)")
+    p.add_argument("--weights", type=weights_arg, default="nominal", help="true weights: set name or hip,knee,dtau")
+    p.add_argument("--condition", default="ideal", help="robustness condition (default ideal)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the algorithm and of observation noise")
+    p.add_argument("--config", default="{}", help="algorithm config overrides as JSON, e.g. '{\"n_random\": 5}'")
+    p.add_argument("--out", type=Path, default=Path("ioc_result.json"), help="result file (JSON); plot beside it")
+    add_json_flag(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ioc_bench.bench.case import run_case
+    from ioc_bench.bench.conditions import get_condition
+    from ioc_bench.fileio import atomic_write_json
+    from ioc_bench.ioc.registry import AlgorithmError, get_algorithm
+    from ioc_bench.viz.convergence import plot_convergence
+
+    try:
+        get_algorithm(args.algorithm)
+        condition = get_condition(args.condition)
+        config = json.loads(args.config)
+        if not isinstance(config, dict):
+            raise ValueError("--config must be a JSON object")
+    except (AlgorithmError, ValueError) as exc:
+        raise UsageError(str(exc)) from None
+    if not args.json:
+        print(
+            f"running {args.algorithm} on {args.weights} weights, {condition.name} condition, seed {args.seed}",
+            file=sys.stderr,
+        )
+    try:
+        result = run_case(args.algorithm, args.weights, condition, args.seed, config=config)
+    except AlgorithmError as exc:
+        raise UsageError(str(exc)) from None
+    atomic_write_json(args.out, to_jsonable(result.to_dict()))
+    plot = plot_convergence(result, args.out.with_suffix(".png"))
+    summary = {
+        "algorithm": result.algorithm,
+        "weight_set": result.weight_set,
+        "condition": result.condition,
+        "seed": result.seed,
+        "status": result.status,
+        "reason": result.reason,
+        "features": result.features,
+        "weights": result.weights,
+        "true_weights": result.true_weights,
+        "weight_error": result.weight_error,
+        "trajectory_error": result.trajectory_error,
+        "n_solves": result.n_solves,
+        "wall_time": result.wall_time,
+        "iterations": len(result.history),
+        "result_file": str(args.out),
+        "plot": str(plot),
+    }
+    if args.json:
+        print_json(summary)
+    else:
+        _print(result, summary)
+    return 1 if result.failed else 0
+
+
+def _print(result, summary: dict) -> None:
+    for i, h in enumerate(result.history):
+        w = " ".join(f"{x:.4f}" for x in h["weights"])
+        mark = "  <- output" if i == result.chosen_iteration else ""
+        cut = "cut" if h["cost_gap"] < 0 else "no cut"
+        gap = f"cost gap {h['cost_gap']:+.2e} ({cut})"
+        print(f"  iter {i:2d}  w = [{w}]  traj. error {h['trajectory_error']:.3g}  {gap}{mark}")
+    names = ", ".join(result.features)
+    fmt = lambda v: "[" + ", ".join(f"{x:.4f}" for x in v) + "]"  # noqa: E731
+    print(f"status          {result.status}" + (f" ({result.reason})" if result.reason else ""))
+    print(f"weights ({names})  estimated {fmt(result.weights)}  true {fmt(result.true_weights)}")
+    print(f"weight error    {result.weight_error:.5f}")
+    print(f"trajectory err. {result.trajectory_error:.4g}")
+    print(f"cost            {result.n_solves} forward solves, {result.wall_time:.1f} s")
+    print(f"wrote           {summary['result_file']} and {summary['plot']}")

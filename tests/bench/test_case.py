@@ -1,0 +1,70 @@
+"""``run_case`` records an algorithm's faults as failed results, and scores good answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import ioc_bench
+from ioc_bench.ioc import registry
+from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
+
+
+@pytest.fixture
+def register(monkeypatch):
+    monkeypatch.setattr(registry, "_REGISTRY", dict(registry._REGISTRY))
+
+    def add(name, fit):
+        cls = type(name, (IOCAlgorithm,), {"fit": fit, "description": name})
+        ioc_bench.register_algorithm(name)(cls)
+        return name
+
+    return add
+
+
+def _raises(self, problem):
+    raise RuntimeError("boom")
+
+
+@pytest.mark.parametrize(
+    ("fit", "reason"),
+    [
+        (_raises, "RuntimeError: boom"),
+        (lambda self, p: IOCResult(np.ones(p.n_features + 1)), "returned 4 weights for 3 features"),
+        (lambda self, p: IOCResult(np.array([np.nan, 1.0, 1.0])), "non-finite"),
+        (lambda self, p: IOCResult(np.array([-1.0, 1.0, 1.0])), "negative"),
+        (lambda self, p: IOCResult(np.zeros(3)), "all-zero"),
+        (lambda self, p: [1, 2, 3], "not IOCResult"),
+    ],
+)
+def test_misbehaving_algorithm_gives_failed_result(register, fit, reason, ideal_nominal_cached):
+    name = register(f"bad-{abs(hash(reason))}", fit)
+    result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
+    assert result.status == "failed"
+    assert reason in result.reason
+    assert np.isnan(result.weight_error)
+
+
+def test_oracle_counts_and_perfect_answer_scores_zero(register, ideal_nominal_cached):
+    def fit(self, problem):
+        problem.optimize(np.ones(3))
+        assert not hasattr(problem, "weights") and not hasattr(problem.observed, "weights")
+        return IOCResult(np.ones(3))  # the truth for the nominal set
+
+    name = register("oracle-user", fit)
+    result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
+    assert result.status == "converged"
+    assert result.n_solves == 1 and result.oracle["calls"]["optimize"] == 1
+    assert result.weight_error == pytest.approx(0.0, abs=1e-12)
+    assert result.trajectory_error < 1e-6  # the truth regenerates the observed step
+
+
+def test_result_round_trips_through_json(register, ideal_nominal_cached):
+    import json
+
+    from ioc_bench.bench.case import CaseResult
+
+    name = register("fixed-json", lambda self, p: IOCResult(np.array([1.0, 2.0, 3.0])))
+    result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
+    again = CaseResult.from_dict(json.loads(json.dumps(result.to_dict())))
+    assert again == result

@@ -1,0 +1,74 @@
+"""The command line: one-line errors with exit code 2, JSON reports, written files."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from ioc_bench.cli import main
+
+
+def _run(capsys, *argv):
+    with pytest.raises(SystemExit) as exc:
+        main(list(argv))
+    return exc.value.code, capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["gait", "--weights", "bogus"],
+        ["gait", "--weights", "1,-1,1"],
+        ["gait", "--weights", "nan,1,1"],
+        ["gait", "--weights", "1,2"],
+        ["gait", "--speed", "0"],
+        ["gait", "--speed", "-1"],
+        ["table1", "--speed", "abc"],
+        ["ioc", "--algorithm", "nope"],
+        ["ioc", "--condition", "nope"],
+        ["ioc", "--weights", "nope"],
+        ["ioc", "--config", "[1, 2]"],
+        ["no-such-command"],
+    ],
+)
+def test_bad_arguments_exit_2_with_one_line(capsys, argv):
+    code, out = _run(capsys, *argv)
+    assert code == 2
+    lines = out.err.strip().splitlines()
+    assert len(lines) == 1 and "error" in lines[0]
+    assert "Traceback" not in out.err
+
+
+def test_unknown_names_list_the_valid_ones(capsys):
+    _, out = _run(capsys, "ioc", "--algorithm", "nope")
+    assert "log-barrier" in out.err and "analytic-center" in out.err
+    _, out = _run(capsys, "ioc", "--condition", "nope")
+    assert "ideal" in out.err and "distractor" in out.err
+
+
+def test_gait_json_report_and_files(capsys, tmp_path):
+    out_file = tmp_path / "demo.npz"
+    assert main(["gait", "--weights", "1,10,1", "--starts", "2", "--out", str(out_file), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["solver"]["success"] and report["solver"]["max_violation"] <= 1e-6
+    assert set(report["features"]) == {"hip", "knee", "dtau", "torso", "steplen", "footheight"}
+    assert {"status", "iterations", "wall_time"} <= set(report["solver"])
+    assert out_file.is_file() and out_file.with_suffix(".png").stat().st_size > 10_000
+
+
+def test_algorithms_lists_descriptions(capsys):
+    assert main(["algorithms"]) == 0
+    out = capsys.readouterr().out
+    assert "log-barrier" in out and "as printed" in out
+
+
+def test_ioc_json(capsys, tmp_path, ideal_nominal_cached):
+    out = tmp_path / "r.json"
+    argv = ["ioc", "--algorithm", "analytic-center", "--weights", "nominal", "--out", str(out), "--json"]
+    assert main(argv) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["weight_error"] < 0.01 and report["n_solves"] > 0
+    saved = json.loads(out.read_text())
+    assert saved["weight_error"] == report["weight_error"] and len(saved["history"]) == report["iterations"]
+    assert out.with_suffix(".png").is_file()

@@ -1,0 +1,92 @@
+"""The algorithm registry: decorator, entry-point plugins, clashes and broken plugins."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import sys
+import types
+
+import numpy as np
+import pytest
+
+import ioc_bench
+from ioc_bench.ioc import registry
+from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
+
+
+class _Fixed(IOCAlgorithm):
+    description = "returns fixed weights"
+
+    def fit(self, problem):
+        return IOCResult(np.ones(problem.n_features))
+
+
+@pytest.fixture
+def clean_registry(monkeypatch):
+    """Work on a copy of the registry so tests cannot leak registrations."""
+    monkeypatch.setattr(registry, "_REGISTRY", dict(registry._REGISTRY))
+    registry._load_builtins()
+    return registry._REGISTRY
+
+
+def _fake_entry_points(monkeypatch, eps: list[importlib.metadata.EntryPoint]) -> None:
+    real = importlib.metadata.entry_points
+
+    def entry_points(**kwargs):
+        if kwargs.get("group") == registry.ENTRY_POINT_GROUP:
+            return importlib.metadata.EntryPoints(eps)
+        return real(**kwargs)
+
+    monkeypatch.setattr(importlib.metadata, "entry_points", entry_points)
+
+
+def test_builtins_are_listed():
+    names = ioc_bench.algorithms()
+    assert "log-barrier" in names and "analytic-center" in names
+
+
+def test_decorator_registers_and_clash_is_refused(clean_registry):
+    ioc_bench.register_algorithm("fixed-test")(type("FixedA", (_Fixed,), {}))
+    assert "fixed-test" in ioc_bench.algorithms()
+    with pytest.raises(registry.AlgorithmError, match="already registered"):
+        ioc_bench.register_algorithm("fixed-test")(type("FixedB", (_Fixed,), {}))
+    with pytest.raises(registry.AlgorithmError, match="not an IOCAlgorithm"):
+        ioc_bench.register_algorithm("not-an-algorithm")(dict)
+
+
+def test_unknown_algorithm_lists_valid_names(clean_registry):
+    with pytest.raises(registry.AlgorithmError, match="valid: .*log-barrier"):
+        ioc_bench.make_algorithm("no-such-algorithm")
+
+
+def test_bad_config_field_is_reported(clean_registry):
+    with pytest.raises(registry.AlgorithmError, match="bad config"):
+        ioc_bench.make_algorithm("log-barrier", no_such_field=1)
+
+
+def test_entry_point_plugin_appears_without_import(clean_registry, monkeypatch):
+    module = types.ModuleType("fake_ioc_plugin")
+    module.Plugin = type("Plugin", (_Fixed,), {"description": "a third-party plugin"})
+    monkeypatch.setitem(sys.modules, "fake_ioc_plugin", module)
+    ep = importlib.metadata.EntryPoint("third-party", "fake_ioc_plugin:Plugin", registry.ENTRY_POINT_GROUP)
+    _fake_entry_points(monkeypatch, [ep])
+    assert "third-party" in ioc_bench.algorithms()
+    assert "third-party" not in clean_registry  # listed, not loaded yet
+    algo = ioc_bench.make_algorithm("third-party")
+    assert isinstance(algo, module.Plugin)
+    assert registry.describe_algorithms()["third-party"] == "a third-party plugin"
+
+
+def test_broken_plugin_is_reported_by_name_and_skipped(clean_registry, monkeypatch):
+    bad = importlib.metadata.EntryPoint("broken", "no_such_module_xyz:Algo", registry.ENTRY_POINT_GROUP)
+    clash = importlib.metadata.EntryPoint("log-barrier", "fake_clash:Algo", registry.ENTRY_POINT_GROUP)
+    module = types.ModuleType("fake_clash")
+    module.Algo = type("Algo", (_Fixed,), {})
+    monkeypatch.setitem(sys.modules, "fake_clash", module)
+    _fake_entry_points(monkeypatch, [bad, clash])
+    with pytest.warns(registry.PluginWarning, match="'broken'.*failed to import"):
+        described = registry.describe_algorithms()
+    assert "broken" not in described and "log-barrier" in described
+    with pytest.warns(registry.PluginWarning, match="'broken'"), pytest.raises(registry.AlgorithmError):
+        ioc_bench.make_algorithm("broken")
+    assert registry.get_algorithm("log-barrier").__module__ == "ioc_bench.ioc.log_barrier"

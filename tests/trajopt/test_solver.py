@@ -1,0 +1,39 @@
+"""Solver reports, warm starts, and failures recorded as results."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ioc_bench import Task, optimize_gait
+from ioc_bench.trajopt.solver import FEASIBILITY_TOL, StartPoint, get_solver
+from ioc_bench.weights import full_weights, parse_weights
+
+
+def test_report_fields(nominal_demo):
+    s = nominal_demo.solver
+    assert s.success and s.status == "Solve_Succeeded"
+    assert s.max_violation <= FEASIBILITY_TOL and s.iterations > 0 and s.wall_time > 0
+    phi = [nominal_demo.features[f] for f in ("hip", "knee", "dtau")]
+    assert s.objective == pytest.approx(np.dot(nominal_demo.weight_vector, phi), rel=1e-9)
+
+
+def test_warm_start_from_a_demonstration_is_fast_and_consistent(nominal_demo):
+    again = optimize_gait("nominal", init=nominal_demo)
+    assert again.solver.success and again.solver.warm
+    assert again.solver.iterations <= 5
+    assert again.solver.objective == pytest.approx(nominal_demo.solver.objective, rel=1e-6)
+    nearby = optimize_gait("1.1,1,1", init=nominal_demo)
+    assert nearby.solver.success and nearby.solver.iterations < nominal_demo.solver.iterations
+
+
+def test_failed_solve_is_a_result_not_an_exception(nominal_demo):
+    solver = get_solver(nominal_demo.n_intervals)
+    x0 = solver.decision_vector(nominal_demo.trajectory)
+    # An impossible task: faster than the step-time bounds allow.
+    weights = full_weights(parse_weights("nominal"), ("hip", "knee", "dtau"))
+    result = solver.solve(StartPoint(x0), nominal_demo.params, 50.0, weights)
+    assert not result.report.success
+    assert result.report.status != "Solve_Succeeded" or result.report.max_violation > FEASIBILITY_TOL
+    demo = optimize_gait("nominal", task=Task(50.0), starts=1, workers=1)
+    assert not demo.solver.success  # still a demonstration, flagged infeasible
