@@ -55,7 +55,7 @@ def test_decorator_registers_and_clash_is_refused(clean_registry):
 
 
 def test_unknown_algorithm_lists_valid_names(clean_registry):
-    with pytest.raises(registry.AlgorithmError, match="valid: .*log-barrier"):
+    with pytest.raises(registry.AlgorithmError, match=r"valid: .*log-barrier"):
         ioc_bench.make_algorithm("no-such-algorithm")
 
 

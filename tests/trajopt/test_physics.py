@@ -75,8 +75,12 @@ def newton_euler(traj, params):
             r = point(traj, params, seg, pt) - traj.q[:, i, :2]
             force[:, i, :2] += sign * f
             force[:, i, 2] += sign * (r[:, 1] * f[:, 0] - r[:, 0] * f[:, 1])
-    parents = {"hip_stance": ("torso", "thigh_stance"), "hip_swing": ("torso", "thigh_swing"),
-               "knee_stance": ("thigh_stance", "shank_stance"), "knee_swing": ("thigh_swing", "shank_swing")}  # fmt: skip
+    parents = {
+        "hip_stance": ("torso", "thigh_stance"),
+        "hip_swing": ("torso", "thigh_swing"),
+        "knee_stance": ("thigh_stance", "shank_stance"),
+        "knee_swing": ("thigh_swing", "shank_swing"),
+    }
     for name, (parent, child) in parents.items():
         force[:, SEGMENTS.index(child), 2] += joint_tau[name]
         force[:, SEGMENTS.index(parent), 2] -= joint_tau[name]
