@@ -20,6 +20,7 @@ from ioc_bench._version import __version__
 from ioc_bench.bench.conditions import Condition, get_condition
 from ioc_bench.bench.demos import demonstration
 from ioc_bench.bench.scoring import trajectory_error, unit, weight_error
+from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution, add_noise
@@ -48,6 +49,9 @@ class CaseResult:
         n_solves: forward solves (trajectory optimizations) the algorithm asked for.
         wall_time: seconds the algorithm ran.
         history: per-iteration records as dicts.
+        demo_features: every feature of the true demonstration (for Table I); empty when
+            the demonstration could not be solved.
+        demo_speed: speed of the demonstration.
     """
 
     algorithm: str
@@ -69,6 +73,8 @@ class CaseResult:
     oracle: dict[str, Any] = field(default_factory=dict)
     notes: dict[str, Any] = field(default_factory=dict)
     scoring_status: str = ""
+    demo_features: dict[str, float] = field(default_factory=dict)
+    demo_speed: float = 0.0
     version: str = __version__
 
     @property
@@ -80,10 +86,19 @@ class CaseResult:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> CaseResult:
+        """Inverse of :meth:`to_dict`, also after a JSON round trip (NaN stored as null)."""
         fields = dict(data)
-        for key in ("features", "weights", "true_weights", "history"):
-            fields[key] = tuple(fields.get(key, ()))
+        for key in ("weights", "true_weights"):
+            fields[key] = tuple(_float(v) for v in fields.get(key, ()))
+        for key in ("weight_error", "trajectory_error"):
+            fields[key] = _float(fields.get(key))
+        fields["features"] = tuple(fields.get("features", ()))
+        fields["history"] = tuple(fields.get("history", ()))
         return cls(**fields)
+
+
+def _float(value: Any) -> float:
+    return float("nan") if value is None else float(value)
 
 
 def weight_set_label(weights: WeightSpec) -> str:
@@ -100,6 +115,7 @@ def run_case(
     seed: int = 0,
     config: Mapping[str, Any] | None = None,
     params: WalkerParams | None = None,
+    demo: Demonstration | None = None,
 ) -> CaseResult:
     """Run and score one case.
 
@@ -110,22 +126,20 @@ def run_case(
         seed: seed of the algorithm's random choices and of the observation noise.
         config: overrides of the algorithm's config fields.
         params: the true walker model (default: SPEC section 1).
+        demo: the true demonstration, if already at hand (else from the cache, or solved).
     """
     cond = condition if isinstance(condition, Condition) else get_condition(condition)
     true3 = parse_weights(weights)
     algo = make_algorithm(algorithm, **dict(config or {}))
     params = params or WalkerParams()
-    demo = demonstration(true3, params, cond.demo_task())
-    base = {
-        "algorithm": algorithm,
-        "weight_set": weight_set_label(weights),
-        "condition": cond.name,
-        "seed": seed,
-        "features": cond.features,
-        "true_weights": tuple(unit(_over(true3, cond.features))),
+    demo = demo or demonstration(true3, params, cond.demo_task())
+    base = _identity(algorithm, weights, cond, seed) | {
         "config": algo.config_dict(),
+        "demo_features": dict(demo.features),
+        "demo_speed": demo.task.speed,
     }
     if not demo.solver.success:
+        base["demo_features"] = {}  # a failed demonstration's features describe no optimum
         return _failed(base, f"the demonstration could not be solved ({demo.solver.status})")
     observed = demo.trajectory
     if cond.noise > 0:
@@ -142,6 +156,23 @@ def run_case(
     if problem_reason:
         return _failed(base, problem_reason, problem, t0)
     return _score(base, result, problem, wall)
+
+
+def failure(algorithm: str, weights: WeightSpec, condition: str, seed: int, reason: str) -> CaseResult:
+    """The record of a case that could not run (e.g. it timed out or its worker died)."""
+    return _failed(_identity(algorithm, weights, get_condition(condition), seed), reason)
+
+
+def _identity(algorithm: str, weights: WeightSpec, cond: Condition, seed: int) -> dict[str, Any]:
+    """The fields naming a case and its truth, common to every record."""
+    return {
+        "algorithm": algorithm,
+        "weight_set": weight_set_label(weights),
+        "condition": cond.name,
+        "seed": seed,
+        "features": cond.features,
+        "true_weights": tuple(unit(_over(parse_weights(weights), cond.features))),
+    }
 
 
 def _over(true3: np.ndarray, features: Sequence[str]) -> np.ndarray:

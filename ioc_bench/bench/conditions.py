@@ -61,14 +61,24 @@ CONDITIONS: dict[str, Condition] = {
 
 
 def register_condition(condition: Condition) -> Condition:
-    if condition.name in CONDITIONS:
-        raise ValueError(f"condition {condition.name!r} already exists")
-    CONDITIONS[condition.name] = condition
-    return condition
+    return register(CONDITIONS, condition, "condition")
 
 
 def get_condition(name: str) -> Condition:
+    return lookup(CONDITIONS, name, "condition")
+
+
+def register(catalogue: dict, item, kind: str):
+    """Add ``item`` to a name-keyed catalogue; a duplicate name raises ``ValueError``."""
+    if item.name in catalogue:
+        raise ValueError(f"{kind} {item.name!r} already exists")
+    catalogue[item.name] = item
+    return item
+
+
+def lookup(catalogue: dict, name: str, kind: str):
+    """The catalogue's item called ``name``; an unknown name raises, listing the valid ones."""
     try:
-        return CONDITIONS[name]
+        return catalogue[name]
     except KeyError:
-        raise ValueError(f"unknown condition {name!r}; valid: {', '.join(CONDITIONS)}") from None
+        raise ValueError(f"unknown {kind} {name!r}; valid: {', '.join(catalogue)}") from None

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from ioc_bench.cli.common import UsageError, fail
 
 #: Subcommand modules, in the order ``--help`` lists them.
-COMMANDS: tuple[str, ...] = ("gait", "table1", "bench", "replay", "algorithms", "ioc")
+COMMANDS: tuple[str, ...] = ("gait", "table1", "bench", "replay", "algorithms", "ioc", "run", "leaderboard", "figures")
 
 
 class _Parser(argparse.ArgumentParser):

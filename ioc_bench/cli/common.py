@@ -8,7 +8,7 @@ import math
 import sys
 from typing import Any, NoReturn
 
-import numpy as np
+from ioc_bench.fileio import to_jsonable
 
 
 class UsageError(Exception):
@@ -44,21 +44,6 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print the report as one JSON object on stdout")
 
 
-def to_jsonable(obj: Any) -> Any:
-    """Convert numpy scalars/arrays and nested containers for ``json.dumps``."""
-    if isinstance(obj, dict):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
 def print_json(data: Any) -> None:
     print(json.dumps(to_jsonable(data), sort_keys=True))
 
@@ -92,3 +77,12 @@ def solver_dict(report: Any) -> dict[str, Any]:
         "wall_time": report.wall_time,
         "objective": report.objective,
     }
+
+
+def add_multistart_args(parser: argparse.ArgumentParser, speed_default: float) -> None:
+    """--speed, --starts, --seed and --workers, as every gait-solving command takes them."""
+    speed_help = f"average forward speed (default {speed_default:g})"
+    parser.add_argument("--speed", type=positive_float, default=speed_default, help=speed_help)
+    parser.add_argument("--starts", type=positive_int, default=15, help="multi-start size (default 15)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the start perturbations")
+    parser.add_argument("--workers", type=positive_int, default=None, help="worker processes (default: all cores)")

@@ -7,8 +7,7 @@ from pathlib import Path
 
 from ioc_bench.cli.common import (
     add_json_flag,
-    positive_float,
-    positive_int,
+    add_multistart_args,
     print_json,
     progress_bar,
     solver_dict,
@@ -20,11 +19,8 @@ from ioc_bench.task import NOMINAL_SPEED
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("gait", help="optimize the walking step for given weights", description=__doc__)
     p.add_argument("--weights", type=weights_arg, default="nominal", help="weight set name or numbers hip,knee,dtau")
-    p.add_argument("--speed", type=positive_float, default=NOMINAL_SPEED, help="average forward speed (default 0.27)")
+    add_multistart_args(p, NOMINAL_SPEED)
     p.add_argument("--out", type=Path, default=Path("demo.npz"), help="demonstration file to write (.npz)")
-    p.add_argument("--starts", type=positive_int, default=15, help="multi-start size (default 15)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the start perturbations")
-    p.add_argument("--workers", type=positive_int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--no-plot", action="store_true", help="skip the stick-figure plot")
     add_json_flag(p)
     p.set_defaults(run=run)

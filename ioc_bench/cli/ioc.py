@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, print_json, to_jsonable, weights_arg
+from ioc_bench.cli.common import UsageError, add_json_flag, print_json, weights_arg
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
         result = run_case(args.algorithm, args.weights, condition, args.seed, config=config)
     except AlgorithmError as exc:
         raise UsageError(str(exc)) from None
-    atomic_write_json(args.out, to_jsonable(result.to_dict()))
+    atomic_write_json(args.out, result.to_dict())
     plot = plot_convergence(result, args.out.with_suffix(".png"))
     summary = {
         "algorithm": result.algorithm,

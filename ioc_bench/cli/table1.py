@@ -4,16 +4,13 @@ from __future__ import annotations
 
 import argparse
 
-from ioc_bench.cli.common import add_json_flag, positive_float, positive_int, print_json, solver_dict
+from ioc_bench.cli.common import add_json_flag, add_multistart_args, print_json, solver_dict
 from ioc_bench.task import NOMINAL_SPEED
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("table1", help="features of the four weight sets' optima (Table I)", description=__doc__)
-    p.add_argument("--speed", type=positive_float, default=NOMINAL_SPEED, help="average forward speed (default 0.27)")
-    p.add_argument("--starts", type=positive_int, default=15, help="multi-start size per weight set (default 15)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the start perturbations")
-    p.add_argument("--workers", type=positive_int, default=None, help="worker processes (default: all cores)")
+    add_multistart_args(p, NOMINAL_SPEED)
     p.add_argument("--no-cross-seed", action="store_true", help="do not re-solve each set from the others' optima")
     add_json_flag(p)
     p.set_defaults(run=run)

@@ -1,4 +1,6 @@
-"""The paper's IOC method (Rebula et al., section II.D; SPEC section 3), as printed.
+"""The paper's IOC method (Rebula et al., section II.D; SPEC section 3) and its switches.
+
+As printed (the defaults of :class:`LogBarrierConfig`):
 
 1. Draw N trajectories around the observed one with Gaussian noise and project each to
    the feasible set: the suboptimal set X-.
@@ -7,6 +9,9 @@
 3. Optimise a step for the candidate weights (from x*), add it to X-, repeat from 2; stop
    after ``max_iterations``, when the weights stop changing, or when step 2 is infeasible.
 4. Output the candidate whose step was closest to the observation.
+
+Each thing that limits it on this walker (docs/ioc.md) has a config switch, so its effect
+can be measured alone; :mod:`ioc_bench.ioc.analytic_center` turns them all on.
 """
 
 from __future__ import annotations
@@ -19,20 +24,34 @@ from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution
 from ioc_bench.ioc.registry import register_algorithm
 from ioc_bench.ioc.weight_fit import fit_weights
+from ioc_bench.trajectory import Trajectory
 
 
 @dataclass(frozen=True)
 class LogBarrierConfig:
-    """Settings of the paper's method.
+    """Settings of the iterative log-barrier IOC. Defaults: the method as printed.
 
     Attributes:
-        n_random: N, projected random trajectories that seed X- (the paper does not say;
-            10 keeps a case under a minute here).
-        perturbation: noise of the random trajectories, as a fraction of each signal's span.
-        max_iterations: the paper's 25.
-        weight_tol: stop when no weight changes by more than this between iterations.
-        offset: the 1.5 inside the log.
-        lower, upper: the weight bounds 0.001 and 0.999.
+        n_random: N, projected random trajectories seeding X- (the paper does not say).
+        perturbation: their noise, as a fraction of each signal's span.
+        max_iterations: candidate weights tried at most (the paper's 25).
+        weight_tol: stop when no weight (unit norm) moves more than this.
+        offset: the 1.5 inside the log (``objective="paper"``).
+        lower, upper: weight bounds (the paper's 0.001 and 0.999).
+        objective: ``"paper"`` (``sum log(offset + w.d)``) or ``"center"`` (analytic centre
+            of the cone of separating weights).
+        scale_features: measure each feature in units of its value at the reference step
+            (features here are 1e-4..1e-6, which makes ``log(1.5 + w.d)`` linear).
+        forward: ``"plain"``: optimise for the candidate from x*; ``"proximal"``: minimise
+            ``w.phi/w.phi(ref) + lambda * distance to ref`` from ref, raising ``lambda``
+            through ``proximal`` until the step is cheaper than ref under ``w`` (a cut).
+        proximal: the ladder of proximal weights.
+        stop_without_cut: stop (converged) when a candidate's step adds no cut.
+        cut_tol: a relative cost decrease below this is not a cut.
+        reference: ``"observed"``: x*; ``"feasible"``: x* if the IOC's model can produce
+            it, else its feasible projection.
+        output: ``"min-error"``: the candidate whose step was closest to the observation
+            (the paper); ``"last"``: the last candidate.
     """
 
     n_random: int = 10
@@ -42,12 +61,32 @@ class LogBarrierConfig:
     offset: float = 1.5
     lower: float = 0.001
     upper: float = 0.999
+    objective: str = "paper"
+    scale_features: bool = False
+    forward: str = "plain"
+    proximal: tuple[float, ...] = (30.0, 300.0)
+    stop_without_cut: bool = False
+    cut_tol: float = 1e-7
+    reference: str = "observed"
+    output: str = "min-error"
 
     def __post_init__(self) -> None:
-        if self.n_random < 1 or self.max_iterations < 1:
-            raise ValueError("n_random and max_iterations must be >= 1")
+        if self.n_random < 0 or self.max_iterations < 1:
+            raise ValueError("n_random must be >= 0 and max_iterations >= 1")
         if not (self.perturbation > 0 and self.weight_tol >= 0 and 0 <= self.lower < self.upper <= 1):
             raise ValueError("perturbation must be > 0, weight_tol >= 0 and 0 <= lower < upper <= 1")
+        choices = {
+            "objective": ("paper", "center"),
+            "forward": ("plain", "proximal"),
+            "reference": ("observed", "feasible"),
+            "output": ("min-error", "last"),
+        }
+        for name, valid in choices.items():
+            if getattr(self, name) not in valid:
+                raise ValueError(f"{name} must be one of {valid}, got {getattr(self, name)!r}")
+        if not self.proximal or any(p <= 0 for p in self.proximal):
+            raise ValueError("proximal must be a non-empty ladder of positive weights")
+        object.__setattr__(self, "proximal", tuple(self.proximal))
 
 
 def random_samples(problem: IOCProblem, n: int, size: float) -> tuple[list[np.ndarray], int]:
@@ -64,9 +103,94 @@ def random_samples(problem: IOCProblem, n: int, size: float) -> tuple[list[np.nd
     return samples, failed
 
 
-def record(problem: IOCProblem, w: np.ndarray, sol: OracleSolution, phi_star: np.ndarray, **extra) -> IterationRecord:
+@register_algorithm("log-barrier")
+class LogBarrier(IOCAlgorithm):
+    """Iterative log-barrier IOC; with default config, exactly as the paper prints it."""
+
+    description = "the paper's iterative log-barrier IOC (Rebula et al. 2019), as printed"
+    Config = LogBarrierConfig
+
+    def fit(self, problem: IOCProblem) -> IOCResult:
+        cfg: LogBarrierConfig = self.config
+        ref = self._reference(problem)
+        if ref is None:
+            return IOCResult(np.full(problem.n_features, np.nan), "failed: the observation could not be projected")
+        phi_ref = problem.features_of(ref)
+        unit = np.maximum(phi_ref, 1e-3 * phi_ref.max()) if cfg.scale_features else np.ones(problem.n_features)
+        samples, failed = random_samples(problem, cfg.n_random, cfg.perturbation)
+        n_random = len(samples)
+        history: list[IterationRecord] = []
+        status, previous, w = "max_iterations", None, None
+        for _ in range(cfg.max_iterations):
+            fit = self._fit(np.array(samples), phi_ref, unit, previous) if samples else None
+            if fit is not None and not fit.success:
+                status = "infeasible"
+                w = self._least_violating(np.array(samples), phi_ref, unit, previous, w)
+                break
+            w = fit.weights if fit else _unit(1.0 / unit)
+            sol, extra = self._forward(problem, w, ref, phi_ref)
+            history.append(_record(problem, w, sol, phi_ref, **extra))
+            if sol.success:
+                samples.append(sol.features)
+            if cfg.stop_without_cut and not history[-1].cost_gap < -cfg.cut_tol:
+                status = "converged"  # no cheaper step near the reference: w is consistent with it
+                break
+            if previous is not None and np.max(np.abs(w - previous)) < cfg.weight_tol:
+                status = "converged"
+                break
+            previous = w
+        return self._result(problem, history, status, w, {"random_samples": n_random, "failed_projections": failed})
+
+    # -- steps ------------------------------------------------------------------------------
+    def _reference(self, problem: IOCProblem) -> Trajectory | None:
+        """The step candidates are compared with: x*, or a feasible stand-in for it."""
+        if self.config.reference == "observed" or problem.is_feasible(problem.observed):
+            return problem.observed
+        projected = problem.project(problem.observed)
+        return projected.trajectory if projected.success else None
+
+    def _fit(self, samples: np.ndarray, phi_ref: np.ndarray, unit: np.ndarray, previous):
+        """Weights from the samples (step 2), in raw units."""
+        cfg = self.config
+        start = None if previous is None else previous * unit
+        fit = fit_weights((samples - phi_ref) / unit, cfg.objective, cfg.offset, cfg.lower, cfg.upper, start)
+        return type(fit)(_unit(fit.weights / unit), fit.success, fit.status, fit.min_margin)
+
+    def _least_violating(self, samples, phi_ref, unit, previous, current):
+        """When no weights separate the samples: the ones violating them least (or keep)."""
+        if self.config.objective == "paper":
+            return current
+        start = None if previous is None else previous * unit
+        least = fit_weights(
+            (samples - phi_ref) / unit, "maxmin", lower=self.config.lower, upper=self.config.upper, start=start
+        )
+        return _unit(least.weights / unit) if least.success else current
+
+    def _forward(self, problem: IOCProblem, w: np.ndarray, ref: Trajectory, phi_ref: np.ndarray):
+        """The candidate's step (step 3): plain, or proximal until it cuts."""
+        cfg = self.config
+        if cfg.forward == "plain":
+            return problem.optimize(w, start=ref), {}
+        for lam in cfg.proximal:
+            sol = problem.optimize(w, start=ref, proximal=lam, anchor=ref)
+            if sol.success and w @ (sol.features - phi_ref) < -cfg.cut_tol * (w @ phi_ref):
+                break
+        return sol, {"proximal": lam}
+
+    def _result(self, problem, history, status, w, notes) -> IOCResult:
+        """Step 4: pick the output among the candidates."""
+        if w is None:
+            return IOCResult(np.full(problem.n_features, np.nan), f"failed: {status} before the first candidate")
+        if self.config.output == "last" or not any(np.isfinite(h.trajectory_error) for h in history):
+            chosen = len(history) - 1 if history and status != "infeasible" else None
+            return IOCResult(w, status, tuple(history), chosen, notes)
+        chosen = int(np.nanargmin([h.trajectory_error for h in history]))
+        return IOCResult(np.array(history[chosen].weights), status, tuple(history), chosen, notes)
+
+
+def _record(problem: IOCProblem, w: np.ndarray, sol: OracleSolution, phi_ref: np.ndarray, **extra) -> IterationRecord:
     """The history entry of one candidate and its forward solve."""
-    gap = float(w @ (sol.features - phi_star) / (w @ phi_star)) if sol.success else float("nan")
+    gap = float(w @ (sol.features - phi_ref) / (w @ phi_ref)) if sol.success else float("nan")
     return IterationRecord(
         weights=tuple(float(x) for x in w),
         trajectory_error=problem.trajectory_error(sol.trajectory) if sol.success else float("nan"),
@@ -76,44 +200,5 @@ def record(problem: IOCProblem, w: np.ndarray, sol: OracleSolution, phi_star: np
     )
 
 
-@register_algorithm("log-barrier")
-class LogBarrier(IOCAlgorithm):
-    """Iterative log-barrier IOC exactly as the paper prints it."""
-
-    description = "the paper's iterative log-barrier IOC (Rebula et al. 2019), as printed"
-    Config = LogBarrierConfig
-
-    def fit(self, problem: IOCProblem) -> IOCResult:
-        cfg: LogBarrierConfig = self.config
-        phi_star = problem.features_of(problem.observed)
-        samples, failed = random_samples(problem, cfg.n_random, cfg.perturbation)
-        n_random = len(samples)
-        history: list[IterationRecord] = []
-        status, previous = "max_iterations", None
-        for _ in range(cfg.max_iterations):
-            fit = fit_weights(np.array(samples) - phi_star, "paper", cfg.offset, cfg.lower, cfg.upper, previous)
-            if not fit.success:
-                status = "infeasible"
-                break
-            sol = problem.optimize(fit.weights, start=problem.observed)
-            history.append(record(problem, fit.weights, sol, phi_star, min_margin=fit.min_margin))
-            if sol.success:
-                samples.append(sol.features)
-            if previous is not None and np.max(np.abs(fit.weights - previous)) < cfg.weight_tol:
-                status = "converged"
-                break
-            previous = fit.weights
-        if not history:
-            return IOCResult(np.full(problem.n_features, np.nan), f"failed: {status} before the first candidate")
-        chosen = int(np.nanargmin([h.trajectory_error for h in history])) if _any_finite(history) else len(history) - 1
-        return IOCResult(
-            weights=np.array(history[chosen].weights),
-            status=status,
-            history=tuple(history),
-            chosen_iteration=chosen,
-            notes={"random_samples": n_random, "failed_projections": failed},
-        )
-
-
-def _any_finite(history: list[IterationRecord]) -> bool:
-    return any(np.isfinite(h.trajectory_error) for h in history)
+def _unit(w: np.ndarray) -> np.ndarray:
+    return w / np.linalg.norm(w)

@@ -22,7 +22,7 @@ from ioc_bench.model.linkage import Linkage
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
 from ioc_bench.trajectory import Trajectory
-from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS, LOCK_TOL, GaitNLP
+from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS, LOCK_PENALTY, LOCK_TOL, GaitNLP
 
 #: A solution is feasible when IPOPT converged and no constraint or bound is violated by more.
 FEASIBILITY_TOL = 1e-6
@@ -127,15 +127,20 @@ class GaitSolver:
         weights: np.ndarray,
         ref: np.ndarray | None = None,
         track: np.ndarray | None = None,
+        lock_penalty: float = LOCK_PENALTY,
     ) -> SolveResult:
         """Solve from ``start`` for the model ``params`` at ``speed``.
 
         Args:
             weights: (6,) feature weights over ``ALL_FEATURES``.
             ref, track: optional (T, n_track) tracking reference and its weights.
+            lock_penalty: weight of the knee-lock complementarity penalty; raise it when
+                the rest of the objective pulls hard (projections of far-off targets).
         """
         linkage = walker_linkage(params)
-        p = self.nlp.parameter_vector(linkage, params, speed, weights, ref=ref, track=track)
+        p = self.nlp.parameter_vector(
+            linkage, params, speed, weights, ref=ref, track=track, lock_penalty=lock_penalty
+        )
         lbx, ubx = self.nlp.variable_bounds(params)
         x0 = np.clip(start.x, lbx, ubx)
         args = {

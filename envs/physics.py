@@ -1,0 +1,55 @@
+"""The MuJoCo walker: model construction and the few queries the env and replays share."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from ioc_bench.model.mjcf import ContactSettings, walker_mjcf
+from ioc_bench.model.params import WalkerParams
+
+
+def build_model(params: WalkerParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
+    """The compiled MuJoCo model of the walker for ``params`` (default: SPEC section 1)."""
+    return mujoco.MjModel.from_xml_string(walker_mjcf(params, contact))
+
+
+def aligned_timestep(model: mujoco.MjModel, period: float) -> int:
+    """Set ``model``'s timestep to divide ``period`` exactly, no larger than it was.
+
+    Returns the number of physics steps per ``period``, so a replay lands on every knot.
+    """
+    n = max(1, math.ceil(period / model.opt.timestep - 1e-9))
+    model.opt.timestep = period / n
+    return n
+
+
+def foot_in_contact(model: mujoco.MjModel, data: mujoco.MjData, leg: str) -> bool:
+    """Whether leg ``leg``'s foot touches the floor."""
+    gid = model.geom(f"foot_{leg}").id
+    return bool(np.any(data.contact.geom[: data.ncon] == gid))
+
+
+@dataclass(frozen=True)
+class HealthyRange:
+    """When the walker counts as standing: hip height and torso angle within range.
+
+    Attributes:
+        hip_z: (min, max) hip height in leg lengths.
+        torso_angle: (min, max) torso angle from vertical, rad.
+    """
+
+    hip_z: tuple[float, float] = (0.6, 2.0)
+    torso_angle: tuple[float, float] = (-1.0, 1.0)
+
+    def fall_reason(self, qpos: np.ndarray) -> str | None:
+        """None while healthy, else a short reason naming the violated range."""
+        z, angle = float(qpos[1]), float(qpos[2])
+        if not self.hip_z[0] <= z <= self.hip_z[1]:
+            return f"hip height {z:.3f} outside {self.hip_z}"
+        if not self.torso_angle[0] <= angle <= self.torso_angle[1]:
+            return f"torso angle {angle:.3f} rad outside {self.torso_angle}"
+        return None

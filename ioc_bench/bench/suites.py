@@ -1,0 +1,86 @@
+"""Benchmark suites as data: which weight sets, conditions and seeds make up a run.
+
+Add a suite by adding a :class:`Suite` to :data:`SUITES` (or :func:`register_suite`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ioc_bench.bench.conditions import CONDITIONS, get_condition, lookup, register
+from ioc_bench.bench.results import CaseSpec
+from ioc_bench.weights import WEIGHT_SETS, parse_weights
+
+
+@dataclass(frozen=True)
+class Suite:
+    """A grid of cases: every weight set under every condition, once per seed."""
+
+    name: str
+    description: str
+    weight_sets: tuple[str, ...]
+    conditions: tuple[str, ...]
+    seeds: tuple[int, ...] = (0,)
+
+    def __post_init__(self) -> None:
+        for w in self.weight_sets:
+            parse_weights(w)
+        for c in self.conditions:
+            get_condition(c)
+        if not self.seeds:
+            raise ValueError(f"suite {self.name!r} needs at least one seed")
+
+    def cases(self, algorithm: str, config: Mapping[str, Any] | None = None) -> list[CaseSpec]:
+        """The suite's cases for ``algorithm``, in a fixed order."""
+        cfg = dict(config or {})
+        return [
+            CaseSpec(algorithm, w, c, s, cfg) for s in self.seeds for c in self.conditions for w in self.weight_sets
+        ]
+
+
+SUITES: dict[str, Suite] = {
+    s.name: s
+    for s in (
+        Suite(
+            "smoke",
+            "a quick check (minutes): two weight sets, ideal and noisy observations",
+            weight_sets=("nominal", "penalize-knee"),
+            conditions=("ideal", "noise"),
+        ),
+        Suite(
+            "paper",
+            "the paper's study: 4 weight sets x 6 conditions, one seed",
+            weight_sets=tuple(WEIGHT_SETS),
+            conditions=tuple(CONDITIONS),
+        ),
+        Suite(
+            "ideal",
+            "exact model, task and features at both speeds: 4 weight sets x ideal, ideal-fast",
+            weight_sets=tuple(WEIGHT_SETS),
+            conditions=("ideal", "ideal-fast"),
+        ),
+        Suite(
+            "unseen",
+            "ideal condition on weight sets no algorithm was tuned on",
+            weight_sets=("3,1,5", "1,4,2", "2,2,1", "5,2,1"),
+            conditions=("ideal",),
+        ),
+        Suite(
+            "paper-3seeds",
+            "the paper's study with 3 seeds per case (bootstrap confidence intervals)",
+            weight_sets=tuple(WEIGHT_SETS),
+            conditions=tuple(CONDITIONS),
+            seeds=(0, 1, 2),
+        ),
+    )
+}
+
+
+def register_suite(suite: Suite) -> Suite:
+    return register(SUITES, suite, "suite")
+
+
+def get_suite(name: str) -> Suite:
+    return lookup(SUITES, name, "suite")

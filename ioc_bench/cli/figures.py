@@ -1,0 +1,41 @@
+"""``ioc-bench figures``: the paper's Table I and Figures 4-6 from a directory of results."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ioc_bench.cli.common import UsageError, add_json_flag, print_json
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("figures", help="Table I and Figures 4-6 from benchmark results", description=__doc__)
+    p.add_argument("results", type=Path, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench bench`)")
+    p.add_argument("--out", type=Path, default=Path("figures"), help="output directory (default figures/)")
+    p.add_argument(
+        "--algorithm",
+        action="append",
+        metavar="NAME",
+        help="only this algorithm (repeat for several; default: every algorithm in the results)",
+    )
+    add_json_flag(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ioc_bench.viz.figures import make_figures, select_results
+
+    if not args.results.is_dir():
+        raise UsageError(f"results directory not found: {args.results}")
+    try:  # bad input is checked up front, so that errors while drawing stay real errors
+        select_results(args.results, args.algorithm)
+    except ValueError as exc:  # empty directory, unreadable result file, unknown algorithm
+        raise UsageError(" ".join(str(exc).split())) from None
+    written = make_figures(args.results, args.out, algorithms=args.algorithm)
+    if args.json:
+        print_json({name: str(path) for name, path in written.items()})
+    else:
+        width = max(len(name) for name in written)
+        for name, path in written.items():
+            print(f"{name:<{width}}  {path}")
+    return 0

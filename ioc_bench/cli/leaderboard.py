@@ -1,0 +1,33 @@
+"""``ioc-bench leaderboard``: regenerate the leaderboard (Markdown + JSON) from a results directory."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ioc_bench.cli.common import UsageError, add_json_flag, print_json
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("leaderboard", help="write the leaderboard from result files", description=__doc__)
+    p.add_argument("results", type=Path, help="results directory (as written by `ioc-bench run`)")
+    p.add_argument("--out", type=Path, default=Path("leaderboards"), help="output directory (default leaderboards/)")
+    add_json_flag(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ioc_bench.bench.leaderboard import summarise, write_leaderboard
+    from ioc_bench.bench.results import load_results
+
+    try:
+        results = load_results(args.results)
+        paths = write_leaderboard(results, args.out, source=str(args.results))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    if args.json:
+        print_json({"files": [str(p) for p in paths], "cells": [c.__dict__ for c in summarise(results)]})
+    else:
+        print(paths[0].read_text())
+        print(f"wrote {', '.join(str(p) for p in paths)}")
+    return 0

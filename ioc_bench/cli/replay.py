@@ -1,0 +1,93 @@
+"""``ioc-bench replay``: check a demonstration in MuJoCo (inverse dynamics, open and closed loop).
+
+Exit code 0 when the inverse-dynamics and closed-loop checks pass, 1 when one fails, 2 on
+a missing or malformed demonstration file. The open-loop error is reported, not judged
+(walking is unstable without feedback). ``ioc_bench`` does not import ``envs`` (nor
+MuJoCo) until this command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from ioc_bench.cli.common import UsageError, add_json_flag, positive_int, print_json
+
+#: MuJoCo models a demonstration can be replayed against.
+MODELS = ("demo", "nominal")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("replay", help="check a demonstration in MuJoCo (inverse dynamics, open/closed loop)")
+    p.description = __doc__
+    p.add_argument("demo", type=Path, metavar="DEMO.npz", help="demonstration file written by 'ioc-bench gait'")
+    p.add_argument("--out", type=Path, default=None, help="directory for the GIF and plot (default: next to DEMO)")
+    p.add_argument("--steps", type=positive_int, default=10, help="closed-loop steps to walk (default 10)")
+    p.add_argument(
+        "--model",
+        choices=MODELS,
+        default="demo",
+        help="MuJoCo model: the demonstration's own parameters (default) or the nominal walker",
+    )
+    p.add_argument("--no-video", action="store_true", help="skip the GIF of the walk")
+    add_json_flag(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ioc_bench.demo import Demonstration, DemonstrationFileError
+    from ioc_bench.model.params import WalkerParams
+
+    try:
+        demo = Demonstration.load(args.demo)
+    except DemonstrationFileError as exc:
+        raise UsageError(str(exc)) from None
+    import envs.replay as rp  # lazily: ioc_bench must not need envs (or MuJoCo) to import
+
+    out_dir = args.out if args.out is not None else args.demo.parent
+    if out_dir.exists() and not out_dir.is_dir():
+        raise UsageError(f"--out {out_dir} exists and is not a directory")
+    params = demo.params if args.model == "demo" else WalkerParams()
+    try:
+        report = rp.replay(demo, steps=args.steps, params=params)
+    except ValueError as exc:  # a loadable file whose step cannot be replayed
+        raise UsageError(f"cannot replay {args.demo}: {exc}") from None
+    stem = args.demo.stem
+    outputs = {
+        "plot": str(rp.plot_comparison(demo, report.open_loop, report.closed_loop, out_dir / f"{stem}_replay.png"))
+    }
+    if not args.no_video:
+        outputs["video"] = str(rp.write_animation(report.closed_loop, params, out_dir / f"{stem}_replay.gif"))
+    result = report.to_dict() | {"demo": str(args.demo), "model": args.model, "outputs": outputs}
+    if args.json:
+        print_json(result)
+    else:
+        _print_report(result)
+    return 0 if report.passed else 1
+
+
+def _verdict(passed: bool) -> str:
+    return "PASS" if passed else "FAIL"
+
+
+def _print_report(r: dict[str, Any]) -> None:
+    idr, ol, cl = r["inverse_dynamics"], r["open_loop"], r["closed_loop"]
+    print(f"replay   {r['demo']} against the {r['model']} MuJoCo model")
+    print(
+        f"inverse dynamics  {_verdict(idr['passed'])}  residual {idr['relative_residual']:.2e} of peak torque "
+        f"(limit {idr['tolerance']:g}); max {idr['max_residual']:.2e} at knot {idr['worst_knot']} "
+        f"({idr['worst_dof']}), peak |tau| {idr['peak_torque']:.4f}"
+    )
+    touchdown = "no early touchdown" if ol["touchdown_time"] is None else f"touchdown at t={ol['touchdown_time']:.3f}"
+    print(
+        f"open loop         (reported)  final-state error {ol['final_position_error']:.2e} (positions), "
+        f"{ol['final_velocity_error']:.2e} (velocities) after {ol['duration']:.3f}; {touchdown}"
+    )
+    fell = "" if cl["fall_reason"] is None else f"; stopped: {cl['fall_reason']}"
+    print(
+        f"closed loop       {_verdict(cl['passed'])}  {cl['steps_walked']}/{cl['steps_requested']} steps, "
+        f"tracking RMS {cl['tracking_rms']:.2e} rad (max {cl['tracking_max']:.2e}), "
+        f"feedback share {100 * cl['feedback_share']:.1f} % (limit {100 * cl['share_limit']:g} %){fell}"
+    )
+    print("wrote    " + " and ".join(r["outputs"].values()))

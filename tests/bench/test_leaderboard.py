@@ -1,0 +1,79 @@
+"""The leaderboard is regenerated from result files; CIs appear with 3+ seeds per case."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from ioc_bench.bench.case import failure
+from ioc_bench.bench.leaderboard import penalised_is_largest, summarise, write_leaderboard
+from ioc_bench.bench.results import CaseSpec, load_results, write_result
+from ioc_bench.cli import main
+
+
+def _result(algorithm, weight_set, condition, seed, weights, error):
+    base = failure(algorithm, weight_set, condition, seed, "placeholder")
+    fields = base.to_dict() | {
+        "status": "converged",
+        "reason": "",
+        "weights": tuple(weights),
+        "weight_error": error,
+        "trajectory_error": 10 * error,
+        "n_solves": 7,
+        "wall_time": 1.5,
+    }
+    return type(base).from_dict(fields)
+
+
+@pytest.fixture
+def results_dir(tmp_path):
+    rng = np.random.default_rng(1)
+    for seed in range(3):
+        for ws, w in (("nominal", (0.6, 0.6, 0.5)), ("penalize-hip", (0.98, 0.1, 0.15))):
+            for cond in ("ideal", "noise"):
+                spec = CaseSpec("algo", ws, cond, seed)
+                write_result(tmp_path, spec, _result("algo", ws, cond, seed, w, float(rng.uniform(0.01, 0.05))))
+    write_result(tmp_path, CaseSpec("algo", "nominal", "mass", 0), failure("algo", "nominal", "mass", 0, "boom"))
+    return tmp_path
+
+
+def test_summary_cells_and_bootstrap_ci(results_dir):
+    results = load_results(results_dir)
+    cells = {c.condition: c for c in summarise(results)}
+    ideal = cells["ideal"]
+    errors = [r.weight_error for r in results if r.condition == "ideal"]
+    assert ideal.cases == 6 and ideal.failures == 0 and ideal.seeds == (0, 1, 2)
+    assert ideal.weight_error == pytest.approx(np.mean(errors))
+    low, high = ideal.weight_error_ci
+    assert low < ideal.weight_error < high and min(errors) <= low and high <= max(errors)
+    assert ideal.largest_recovered == 3 and ideal.largest_checked == 3
+    mass = cells["mass"]
+    assert mass.failures == 1 and np.isnan(mass.weight_error) and mass.weight_error_ci is None
+
+
+def test_written_files_state_method_seeds_and_versions(results_dir, tmp_path):
+    out = tmp_path / "board"
+    md_path, json_path = write_leaderboard(load_results(results_dir), out, source="results/")
+    md = md_path.read_text()
+    assert "never edited by hand" in md and "**Method.**" in md and "**Seeds:** 0, 1, 2" in md
+    assert "casadi" in md and "95 % bootstrap" in md and "| algo | ideal | 6 |" in md
+    data = json.loads(json_path.read_text())
+    assert {c["condition"] for c in data["cells"]} == {"ideal", "noise", "mass"}
+    assert len(data["cases"]) == 13
+
+
+def test_penalised_weight_check():
+    r = _result("a", "penalize-hip", "noise", 0, (0.9, 0.3, 0.2), 0.1)
+    assert penalised_is_largest(r) is True
+    assert penalised_is_largest(_result("a", "penalize-knee", "noise", 0, (0.9, 0.3, 0.2), 0.1)) is False
+    assert penalised_is_largest(_result("a", "nominal", "noise", 0, (0.9, 0.3, 0.2), 0.1)) is None
+
+
+def test_cli(results_dir, tmp_path, capsys):
+    assert main(["leaderboard", str(results_dir), "--out", str(tmp_path / "lb"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["files"]
+    with pytest.raises(SystemExit) as exc:
+        main(["leaderboard", str(tmp_path / "missing")])
+    assert exc.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1

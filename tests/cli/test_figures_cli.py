@@ -1,0 +1,110 @@
+"""``ioc-bench figures``: files written, JSON report, one-line errors with exit code 2."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from ioc_bench.bench.case import CaseResult
+from ioc_bench.bench.results import CaseSpec, write_result
+from ioc_bench.cli import main
+from ioc_bench.features import ALL_FEATURES, COST_FEATURES
+from ioc_bench.weights import parse_weights
+
+
+def _case(algorithm: str, weight_set: str, condition: str, status: str = "converged") -> CaseResult:
+    features = ALL_FEATURES if condition == "distractor" else COST_FEATURES
+    true = tuple(parse_weights(weight_set, features))
+    failed = status == "failed"
+    history = tuple({"weights": list(true), "trajectory_error": 1e-4 / (i + 1), "cost_gap": -0.1} for i in range(3))
+    return CaseResult(
+        algorithm=algorithm,
+        weight_set=weight_set,
+        condition=condition,
+        seed=0,
+        features=features,
+        status=status,
+        reason="synthetic failure" if failed else "",
+        weights=(math.nan,) * len(features) if failed else true,
+        true_weights=true,
+        weight_error=math.nan if failed else 0.01,
+        trajectory_error=math.nan if failed else 1e-5,
+        n_solves=3,
+        wall_time=1.0,
+        history=() if failed else history,
+        chosen_iteration=None if failed else 2,
+        demo_features={"hip": 1e-3, "knee": 1e-3, "dtau": 1e-4},
+        demo_speed=0.27,
+    )
+
+
+@pytest.fixture(scope="module")
+def results_dir(tmp_path_factory):
+    root = tmp_path_factory.mktemp("results")
+    cases = [
+        _case("alpha", "nominal", "ideal"),
+        _case("alpha", "nominal", "distractor"),
+        _case("beta", "nominal", "ideal"),
+        _case("beta", "penalize-hip", "distractor"),
+        _case("beta", "nominal", "mass", status="failed"),
+    ]
+    for r in cases:
+        write_result(root, CaseSpec(r.algorithm, r.weight_set, r.condition, r.seed), r)
+    return root
+
+
+def _bad_exit(capsys, *argv: str) -> str:
+    with pytest.raises(SystemExit) as exc:
+        main(list(argv))
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
+
+
+def test_json_report_maps_figures_to_written_files(results_dir, tmp_path, capsys):
+    out = tmp_path / "figs"
+    assert main(["figures", str(results_dir), "--out", str(out), "--algorithm", "beta", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert set(report) == {"table1", "figure4_beta", "figure5_beta", "figure6"}
+    for name, path in report.items():
+        assert path.startswith(str(out))
+        with open(path, "rb") as f:
+            data = f.read()
+        assert data.startswith(b"# Table I") if name == "table1" else data[:4] == b"\x89PNG" and len(data) > 10_000
+
+
+def test_human_report_lists_the_files(results_dir, tmp_path, capsys, monkeypatch):
+    from ioc_bench.viz import figures
+
+    # the drawing itself is tested in tests/viz; here only what the command prints
+    monkeypatch.setattr(figures, "make_figures", lambda d, o, algorithms: {"table1": o / "table1.md"})
+    assert main(["figures", str(results_dir), "--out", str(tmp_path)]) == 0
+    assert capsys.readouterr().out.split() == ["table1", str(tmp_path / "table1.md")]
+
+
+def test_missing_results_dir_exits_2(tmp_path, capsys):
+    err = _bad_exit(capsys, "figures", str(tmp_path / "nope"), "--out", str(tmp_path / "out"))
+    assert "not found" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_empty_results_dir_exits_2(tmp_path, capsys):
+    (tmp_path / "empty").mkdir()
+    err = _bad_exit(capsys, "figures", str(tmp_path / "empty"), "--out", str(tmp_path / "out"))
+    assert "no case results" in err
+
+
+def test_unknown_algorithm_exits_2_listing_those_present(results_dir, tmp_path, capsys):
+    err = _bad_exit(capsys, "figures", str(results_dir), "--out", str(tmp_path), "--algorithm", "gamma")
+    assert "gamma" in err and "alpha, beta" in err
+    assert not any(tmp_path.iterdir())
+
+
+def test_unreadable_result_file_exits_2(tmp_path, capsys):
+    (tmp_path / "res" / "alpha").mkdir(parents=True)
+    (tmp_path / "res" / "alpha" / "x.json").write_text("{not json")
+    err = _bad_exit(capsys, "figures", str(tmp_path / "res"), "--out", str(tmp_path / "out"))
+    assert "x.json" in err

@@ -1,0 +1,87 @@
+"""``ioc-bench replay``: exit codes, JSON report, outputs, one-line errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from ioc_bench import Demonstration
+from ioc_bench.cli import main
+
+
+@pytest.fixture(scope="module")
+def demo_file(nominal_demo: Demonstration, tmp_path_factory) -> str:
+    return str(nominal_demo.save(tmp_path_factory.mktemp("replay") / "nominal.npz"))
+
+
+@pytest.fixture(scope="module")
+def heavy_file(heavy_legs_demo: Demonstration, tmp_path_factory) -> str:
+    return str(heavy_legs_demo.save(tmp_path_factory.mktemp("replay") / "heavy.npz"))
+
+
+def _bad_exit(argv: list[str], capsys) -> str:
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err  # exactly one line
+    return err
+
+
+def test_json_report_and_outputs_next_to_the_demo(demo_file, capsys):
+    code = main(["replay", demo_file, "--json", "--no-video", "--steps", "2"])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert set(report) >= {"inverse_dynamics", "open_loop", "closed_loop", "passed", "outputs"}
+    assert report["inverse_dynamics"]["relative_residual"] < 1e-3
+    assert report["closed_loop"]["steps_walked"] == 2
+    assert 0 <= report["closed_loop"]["feedback_share"] < 0.2
+    assert np.isfinite(report["open_loop"]["final_position_error"])
+    assert report["outputs"]["plot"].endswith("nominal_replay.png")
+    assert "video" not in report["outputs"]
+    with open(report["outputs"]["plot"], "rb") as f:
+        assert f.read(4) == b"\x89PNG"
+
+
+def test_human_report_and_gif_in_out_dir(demo_file, tmp_path, capsys):
+    code = main(["replay", demo_file, "--out", str(tmp_path), "--steps", "1"])
+    out = capsys.readouterr().out
+    assert code == 0
+    for line in ("inverse dynamics  PASS", "open loop", "closed loop       PASS"):
+        assert line in out
+    assert (tmp_path / "nominal_replay.gif").stat().st_size > 0
+    assert (tmp_path / "nominal_replay.png").stat().st_size > 0
+
+
+def test_wrong_model_fails_the_inverse_dynamics_check(heavy_file, capsys):
+    code = main(["replay", heavy_file, "--model", "nominal", "--json", "--no-video", "--steps", "1"])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 1
+    assert report["model"] == "nominal"
+    assert not report["inverse_dynamics"]["passed"]
+    assert report["inverse_dynamics"]["relative_residual"] > 1e-3
+
+
+def test_missing_file_is_a_one_line_error(tmp_path, capsys):
+    err = _bad_exit(["replay", str(tmp_path / "nope.npz")], capsys)
+    assert "not found" in err
+
+
+def test_malformed_file_is_a_one_line_error(tmp_path, capsys):
+    garbage = tmp_path / "garbage.npz"
+    garbage.write_bytes(b"not a zip file at all")
+    _bad_exit(["replay", str(garbage)], capsys)
+    incomplete = tmp_path / "incomplete.npz"
+    np.savez(incomplete, meta=np.array("{}"))
+    err = _bad_exit(["replay", str(incomplete), "--json"], capsys)
+    assert "incomplete.npz" in err
+
+
+def test_bad_arguments_exit_2(demo_file, tmp_path, capsys):
+    _bad_exit(["replay", demo_file, "--steps", "0"], capsys)
+    _bad_exit(["replay", demo_file, "--model", "heavy"], capsys)
+    a_file = tmp_path / "file.txt"
+    a_file.write_text("x")
+    _bad_exit(["replay", demo_file, "--out", str(a_file)], capsys)
