@@ -138,9 +138,7 @@ class GaitSolver:
                 the rest of the objective pulls hard (projections of far-off targets).
         """
         linkage = walker_linkage(params)
-        p = self.nlp.parameter_vector(
-            linkage, params, speed, weights, ref=ref, track=track, lock_penalty=lock_penalty
-        )
+        p = self.nlp.parameter_vector(linkage, params, speed, weights, ref=ref, track=track, lock_penalty=lock_penalty)
         lbx, ubx = self.nlp.variable_bounds(params)
         x0 = np.clip(start.x, lbx, ubx)
         args = {
