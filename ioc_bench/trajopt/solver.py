@@ -11,7 +11,7 @@ is a result, never an exception.
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from functools import lru_cache
 from typing import Any
 
@@ -26,6 +26,10 @@ from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS, LOCK_PENALTY, LOCK_TOL
 
 #: A solution is feasible when IPOPT converged and no constraint or bound is violated by more.
 FEASIBILITY_TOL = 1e-6
+#: IPOPT statuses that count as converged.
+CONVERGED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+#: Penalty raises tried, in turn, when a converged solve misses the complementarity tolerance.
+REPAIR_FACTORS = (1e2, 1e4)
 
 _COMMON = {
     "ipopt.print_level": 0,
@@ -68,6 +72,7 @@ class SolverReport:
         wall_time: seconds spent in the solve.
         objective: the weighted cost ``w . phi`` at the returned point.
         warm: whether the solve was warm-started.
+        repaired: whether a complementarity repair re-solve was needed (see ``solve``).
     """
 
     status: str
@@ -78,6 +83,12 @@ class SolverReport:
     wall_time: float
     objective: float
     warm: bool = False
+    repaired: bool = False
+
+    @property
+    def converged(self) -> bool:
+        """IPOPT reported convergence (to its tolerances or acceptable ones)."""
+        return self.status in CONVERGED
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -131,12 +142,39 @@ class GaitSolver:
     ) -> SolveResult:
         """Solve from ``start`` for the model ``params`` at ``speed``.
 
+        If IPOPT converges to a feasible point whose knee-lock complementarity misses
+        ``LOCK_TOL`` (the penalty was too weak against the rest of the objective; measured
+        in 8 of 1070 IOC forward solves), the solve is repeated, warm-started from that
+        point, with the penalty raised by :data:`REPAIR_FACTORS`; the report then says
+        ``repaired`` and counts every iteration.
+
         Args:
             weights: (6,) feature weights over ``ALL_FEATURES``.
             ref, track: optional (T, n_track) tracking reference and its weights.
-            lock_penalty: weight of the knee-lock complementarity penalty; raise it when
-                the rest of the objective pulls hard (projections of far-off targets).
+            lock_penalty: weight of the knee-lock complementarity penalty.
         """
+        result = self._solve_once(start, params, speed, weights, ref, track, lock_penalty)
+        first = result.report
+        for factor in REPAIR_FACTORS:
+            r = result.report
+            if r.success or not (r.converged and r.max_violation <= FEASIBILITY_TOL):
+                break
+            warm = StartPoint(result.x, result.lam_x, result.lam_g)
+            result = self._solve_once(warm, params, speed, weights, ref, track, lock_penalty * factor)
+            result = replace(
+                result,
+                report=replace(
+                    result.report,
+                    iterations=first.iterations + result.report.iterations,
+                    wall_time=first.wall_time + result.report.wall_time,
+                    warm=start.warm,
+                    repaired=True,
+                ),
+            )
+            first = result.report
+        return result
+
+    def _solve_once(self, start, params, speed, weights, ref, track, lock_penalty) -> SolveResult:
         linkage = walker_linkage(params)
         p = self.nlp.parameter_vector(linkage, params, speed, weights, ref=ref, track=track, lock_penalty=lock_penalty)
         lbx, ubx = self.nlp.variable_bounds(params)
@@ -177,7 +215,7 @@ class GaitSolver:
 
     def _report(self, x, p, lbx, ubx, weights, status, iterations, wall, warm) -> SolverReport:
         violation = self.max_violation(x, p, lbx, ubx)
-        converged = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+        converged = status in CONVERGED
         phi = np.asarray(self.nlp.features_fn(x, p), dtype=float).ravel()
         products = float(np.max(np.asarray(self.nlp.lock_fn(x, p), dtype=float), initial=0.0))
         return SolverReport(

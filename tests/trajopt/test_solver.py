@@ -37,3 +37,14 @@ def test_failed_solve_is_a_result_not_an_exception(nominal_demo):
     assert result.report.status != "Solve_Succeeded" or result.report.max_violation > FEASIBILITY_TOL
     demo = optimize_gait("nominal", task=Task(50.0), starts=1, workers=1)
     assert not demo.solver.success  # still a demonstration, flagged infeasible
+
+
+def test_weak_lock_penalty_is_repaired(nominal_demo):
+    """With penalty 1 the optimum lets the lock 'kick' (products ~1e-2); the solver notices
+    and re-solves with a stronger penalty instead of returning an invalid step."""
+    solver = get_solver(nominal_demo.n_intervals)
+    start = StartPoint(solver.decision_vector(nominal_demo.trajectory))
+    weights = full_weights(parse_weights("nominal"), ("hip", "knee", "dtau"))
+    result = solver.solve(start, nominal_demo.params, 0.27, weights, lock_penalty=1.0)
+    assert result.report.repaired
+    assert result.report.success and result.report.complementarity <= 1e-6
