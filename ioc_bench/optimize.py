@@ -11,7 +11,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ioc_bench.demo import Demonstration
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES, evaluate
+from ioc_bench.features import ALL_FEATURES, evaluate
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import walker_linkage
 from ioc_bench.task import Task
@@ -19,7 +19,7 @@ from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS
 from ioc_bench.trajopt.initial_guess import perturbed_step, rough_step
 from ioc_bench.trajopt.multistart import pick_best, solve_starts
 from ioc_bench.trajopt.solver import SolveResult, StartPoint, get_solver
-from ioc_bench.weights import WeightSpec, full_weights, parse_weights
+from ioc_bench.weights import WeightSpec, parse_weights
 
 #: The paper's number of starts.
 DEFAULT_STARTS = 15
@@ -83,12 +83,8 @@ def optimize_gait(
 
 
 def _weights(spec: WeightSpec) -> np.ndarray:
-    """Unit weights over ALL_FEATURES from any accepted spec."""
-    if not isinstance(spec, str) and not hasattr(spec, "keys") and np.size(spec) == len(ALL_FEATURES):
-        return parse_weights(spec, ALL_FEATURES)
-    if hasattr(spec, "keys") and any(k not in COST_FEATURES for k in spec):  # type: ignore[union-attr]
-        return parse_weights(spec, ALL_FEATURES)
-    return full_weights(parse_weights(spec, COST_FEATURES), COST_FEATURES)
+    """Unit weights over ALL_FEATURES (three numbers or a set name leave distractors at 0)."""
+    return parse_weights(spec, ALL_FEATURES)
 
 
 def _duals(init: Demonstration, solver) -> tuple[np.ndarray | None, np.ndarray | None]:

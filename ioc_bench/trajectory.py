@@ -13,7 +13,6 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ioc_bench.model.linkage import Linkage, point_position
-from ioc_bench.model.walker import WALKER_ROLES, GaitRoles
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,14 +78,10 @@ class Trajectory:
         i = linkage.index(segment)
         return np.array([point_position(seg, point, qk[i]) for qk in self.q], dtype=float)
 
-    def step_length(self, linkage: Linkage, roles: GaitRoles = WALKER_ROLES) -> float:
-        """Forward distance from the stance foot to where the swing foot lands."""
-        return float(self.point(linkage, *roles.swing_foot)[-1, 0])
-
-    def state_vector(self) -> np.ndarray:
-        """Positions, velocities and torques flattened knot by knot (for distances)."""
+    def signals(self) -> np.ndarray:
+        """(T, n) positions, velocities and torques knot by knot: what is observed of a step."""
         t = self.n_knots
-        return np.concatenate([self.q.reshape(t, -1), self.v.reshape(t, -1), self.tau], axis=1).ravel()
+        return np.concatenate([self.q.reshape(t, -1), self.v.reshape(t, -1), self.tau], axis=1)
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         return {f.name: np.asarray(getattr(self, f.name), dtype=float) for f in fields(self)}

@@ -177,7 +177,7 @@ class IOCProblem:
     def trajectory_error(self, trajectory: Trajectory) -> float:
         """Mean squared difference to the observed step over positions, velocities and
         torques, each signal divided by its span in the observed step (dimensionless)."""
-        diff = (_tracked(trajectory) - _tracked(self.observed)) / self._spans
+        diff = (trajectory.signals() - self.observed.signals()) / self._spans
         return float(np.mean(diff**2))
 
     def perturb(self, rng: np.random.Generator, size: float) -> Trajectory:
@@ -187,7 +187,7 @@ class IOCProblem:
     # -- internals ----------------------------------------------------------------------
     def _tracking(self, target: Trajectory, strength: float) -> tuple[np.ndarray, np.ndarray]:
         """Reference and weights of ``strength * trajectory_error(x, target)``."""
-        ref = _tracked(target)
+        ref = target.signals()
         return ref, np.broadcast_to(strength / (self._spans**2 * ref.size), ref.shape)
 
     def _start(self, start: OracleSolution | Trajectory | None) -> StartPoint:
@@ -227,15 +227,9 @@ def _intervals(traj: Trajectory) -> int:
     return (traj.n_knots - 1) // 2
 
 
-def _tracked(traj: Trajectory) -> np.ndarray:
-    """(T, n) positions, velocities and torques, knot by knot (the tracked signals)."""
-    t = traj.n_knots
-    return np.concatenate([traj.q.reshape(t, -1), traj.v.reshape(t, -1), traj.tau], axis=1)
-
-
 def _signal_spans(traj: Trajectory) -> np.ndarray:
     """(n,) span (max - min) of every tracked signal, floored to stay positive."""
-    sig = _tracked(traj)
+    sig = traj.signals()
     span = sig.max(axis=0) - sig.min(axis=0)
     return np.maximum(span, 1e-3 * max(float(span.max()), 1e-12))
 
@@ -245,7 +239,7 @@ def add_noise(traj: Trajectory, rng: np.random.Generator, size: float, spans: np
     velocities and torques; the other fields are kept."""
     spans = _signal_spans(traj) if spans is None else spans
     t = traj.n_knots
-    noisy = _tracked(traj) + rng.normal(0.0, 1.0, size=(t, spans.size)) * size * spans
+    noisy = traj.signals() + rng.normal(0.0, 1.0, size=(t, spans.size)) * size * spans
     nq = traj.q[0].size
     arrays = traj.to_arrays()
     arrays["q"] = noisy[:, :nq].reshape(traj.q.shape)

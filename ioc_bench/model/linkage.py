@@ -114,9 +114,6 @@ class Linkage:
     def pin_index(self, pin: str) -> int:
         return [p.name for p in self.pins].index(pin)
 
-    def joint_index(self, joint: str) -> int:
-        return [j.name for j in self.joints].index(joint)
-
     @property
     def actuated(self) -> tuple[Joint, ...]:
         return tuple(j for j in self.joints if j.actuated)
@@ -245,17 +242,6 @@ def pin_gap_rate(linkage: Linkage, pin: Pin, q: Sequence[Sequence[Any]], v: Sequ
     ib = linkage.index(pin.b)
     vb = point_velocity(linkage.segment(pin.b), pin.b_point, q[ib], v[ib])
     return va[0] - vb[0], va[1] - vb[1]
-
-
-def momentum(linkage: Linkage, q: Sequence[Sequence[Any]], v: Sequence[Sequence[Any]], about: Point):
-    """Linear momentum ``(px, pz)`` and angular momentum about the point ``about``."""
-    px = pz = h = 0
-    for seg, qs, vs in zip(linkage.segments, q, v):
-        px += seg.mass * vs[0]
-        pz += seg.mass * vs[1]
-        r = (qs[0] - about[0], qs[1] - about[1])
-        h += moment(r, (seg.mass * vs[0], seg.mass * vs[1])) + seg.inertia * vs[2]
-    return px, pz, h
 
 
 def place(linkage: Linkage, theta: Sequence[float]) -> list[list[float]]:

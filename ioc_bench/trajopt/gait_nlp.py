@@ -3,14 +3,14 @@
 Decision variables (named blocks, see :attr:`GaitNLP.layout`): the knot spacing ``dt`` (one
 copy per knot, chained equal, so the KKT system stays banded); every segment's position
 ``q`` and velocity ``v`` at every knot; every pin's constraint force; the actuated and the
-knee-lock torques; the pin and knee-lock impulses at heel strike; and two projection terms
-per knot (see :meth:`GaitNLP._collocation`). Segment accelerations follow from
-Newton-Euler in closed form.
+knee-lock torques; the pin and knee-lock impulses at heel strike. Segment accelerations
+follow from Newton-Euler in closed form.
 
-Pins hold at every knot at position, velocity and acceleration level. The paper's
-formulation (positions at every knot, velocities at the last) leaves a parasitic mode in
-which pin forces alternate between knots and midpoints; measured on this walker it let
-pin velocities drift by 0.1 and pushed forces to their bounds. See ``docs/formulation.md``.
+Pins hold at every knot at position, velocity and acceleration level, and Hermite-Simpson
+collocates the segment angles (see :meth:`GaitNLP._collocation`). The paper's formulation
+(positions at every knot, velocities at the last) leaves a parasitic mode in which pin
+forces alternate between knots and midpoints; measured on this walker it let pin
+velocities drift by 0.1 and pushed forces to their bounds. See ``docs/formulation.md``.
 
 Everything that may change between solves is an NLP parameter (:attr:`GaitNLP.params`):
 feature weights, task speed, the model's masses, inertias and geometry, friction, knee

@@ -18,7 +18,6 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from ioc_bench.model.linkage import Linkage
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
 from ioc_bench.trajectory import Trajectory
@@ -285,7 +284,3 @@ class GaitSolver:
 def get_solver(n_intervals: int = DEFAULT_INTERVALS) -> GaitSolver:
     """This process's solver for ``n_intervals`` (built on first use, about 2 s)."""
     return GaitSolver(n_intervals)
-
-
-def linkage_for(params: WalkerParams) -> Linkage:
-    return walker_linkage(params)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import subprocess
@@ -23,10 +22,10 @@ def _files(root):
     return sorted(p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file())
 
 
-def test_killed_run_resumes_with_every_case_exactly_once(tmp_path, ideal_nominal_cached):
+def test_smoke_suite_killed_midway_resumes_with_every_case_exactly_once(tmp_path, ideal_nominal_cached):
+    """The smoke suite as `ioc-bench run` runs it (default algorithm and config)."""
     out = tmp_path / "results"
-    cmd = [sys.executable, "-m", "ioc_bench.cli", "run", "--suite", "smoke", "--out", str(out), "--workers", "2",
-           "--config", json.dumps(QUICK)]  # fmt: skip
+    cmd = [sys.executable, "-m", "ioc_bench.cli", "run", "--suite", "smoke", "--out", str(out), "--workers", "2"]
     first = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=os.environ.copy())
     deadline = time.monotonic() + 600
     while time.monotonic() < deadline and not list(out.rglob("*.json")):
@@ -35,13 +34,16 @@ def test_killed_run_resumes_with_every_case_exactly_once(tmp_path, ideal_nominal
     first.wait()
     done_before = {p: p.read_bytes() for p in out.rglob("*.json")}
     assert 1 <= len(done_before) < 4, "the kill should land midway"
-    assert subprocess.run(cmd, capture_output=True, env=os.environ.copy()).returncode == 0
+    rerun = subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
+    assert rerun.returncode == 0, rerun.stderr
+    assert "| log-barrier | ideal |" in rerun.stdout  # it ends by printing the leaderboard
     files = _files(out)
     assert len(files) == 4 and all(f.endswith(".json") for f in files)  # no duplicates, no temporaries
     for path, content in done_before.items():
         assert path.read_bytes() == content  # finished cases were not run again
-    specs = get_suite("smoke").cases("log-barrier", QUICK)
+    specs = get_suite("smoke").cases("log-barrier")
     assert sorted(f"{s.key}.json" for s in specs) == files
+    assert not any(r.failed for r in load_results(out))
 
 
 def test_timeout_and_failures_are_recorded_and_the_run_goes_on(tmp_path, ideal_nominal_cached):
