@@ -18,7 +18,11 @@ from ioc_bench.ioc.algorithm import IOCAlgorithm
 ENTRY_POINT_GROUP = "ioc_bench.algorithms"
 
 _REGISTRY: dict[str, type[IOCAlgorithm]] = {}
-_BUILTINS = ("ioc_bench.ioc.log_barrier", "ioc_bench.ioc.analytic_center")
+#: Built-in algorithms, registered by name (not by import side effect, which happens once).
+_BUILTINS = {
+    "log-barrier": "ioc_bench.ioc.log_barrier:LogBarrier",
+    "analytic-center": "ioc_bench.ioc.analytic_center:AnalyticCenter",
+}
 
 
 class AlgorithmError(ValueError):
@@ -53,8 +57,10 @@ def _add(name: str, cls: Any, origin: str) -> None:
 
 
 def _load_builtins() -> None:
-    for module in _BUILTINS:
-        importlib.import_module(module)
+    for name, target in _BUILTINS.items():
+        if name not in _REGISTRY:
+            module, attr = target.split(":")
+            _add(name, getattr(importlib.import_module(module), attr), origin=target)
 
 
 def _plugin_entry_points() -> list[importlib.metadata.EntryPoint]:

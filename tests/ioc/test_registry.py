@@ -90,3 +90,12 @@ def test_broken_plugin_is_reported_by_name_and_skipped(clean_registry, monkeypat
     with pytest.warns(registry.PluginWarning, match="'broken'"), pytest.raises(registry.AlgorithmError):
         ioc_bench.make_algorithm("broken")
     assert registry.get_algorithm("log-barrier").__module__ == "ioc_bench.ioc.log_barrier"
+
+
+def test_builtins_survive_their_module_being_imported_elsewhere(monkeypatch):
+    """A built-in whose import registered it in another registry copy (e.g. during a test)
+    is still registered by name in the real one."""
+    registry._load_builtins()
+    without = {k: v for k, v in registry._REGISTRY.items() if k != "analytic-center"}
+    monkeypatch.setattr(registry, "_REGISTRY", without)
+    assert "analytic-center" in ioc_bench.algorithms()
