@@ -23,8 +23,12 @@ import numpy as np
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution
 from ioc_bench.ioc.registry import register_algorithm
-from ioc_bench.ioc.weight_fit import fit_weights
+from ioc_bench.ioc.weight_fit import fit_weights, max_margin
 from ioc_bench.trajectory import Trajectory
+
+#: When the cuts are inconsistent, relax them by this multiple of the smallest relaxation
+#: that makes any weights feasible, and take the centre of what remains.
+RELAX_FACTOR = 1.5
 
 
 @dataclass(frozen=True)
@@ -125,7 +129,7 @@ class LogBarrier(IOCAlgorithm):
             fit = self._fit(np.array(samples), phi_ref, unit, previous) if samples else None
             if fit is not None and not fit.success:
                 status = "infeasible"
-                w = self._least_violating(np.array(samples), phi_ref, unit, previous, w)
+                w = self._relaxed(np.array(samples), phi_ref, unit, previous, w)
                 break
             w = fit.weights if fit else _unit(1.0 / unit)
             sol, extra = self._forward(problem, w, ref, phi_ref)
@@ -156,15 +160,17 @@ class LogBarrier(IOCAlgorithm):
         fit = fit_weights((samples - phi_ref) / unit, cfg.objective, cfg.offset, cfg.lower, cfg.upper, start)
         return type(fit)(_unit(fit.weights / unit), fit.success, fit.status, fit.min_margin)
 
-    def _least_violating(self, samples, phi_ref, unit, previous, current):
-        """When no weights separate the samples: the ones violating them least (or keep)."""
-        if self.config.objective == "paper":
+    def _relaxed(self, samples, phi_ref, unit, previous, current):
+        """When no weights separate the samples: the centre of the cone relaxed just enough
+        to be non-empty (``objective="center"``); the paper's method keeps its last candidate."""
+        cfg = self.config
+        if cfg.objective == "paper":
             return current
+        d = (samples - phi_ref) / unit
         start = None if previous is None else previous * unit
-        least = fit_weights(
-            (samples - phi_ref) / unit, "maxmin", lower=self.config.lower, upper=self.config.upper, start=start
-        )
-        return _unit(least.weights / unit) if least.success else current
+        relax = RELAX_FACTOR * max(-max_margin(d, cfg.lower, cfg.upper, start), 0.0)
+        fit = fit_weights(d, "center", lower=cfg.lower, upper=cfg.upper, start=start, relax=relax)
+        return _unit(fit.weights / unit) if fit.success else current
 
     def _forward(self, problem: IOCProblem, w: np.ndarray, ref: Trajectory, phi_ref: np.ndarray):
         """The candidate's step (step 3): plain, or proximal until it cuts."""
@@ -182,8 +188,7 @@ class LogBarrier(IOCAlgorithm):
         if w is None:
             return IOCResult(np.full(problem.n_features, np.nan), f"failed: {status} before the first candidate")
         if self.config.output == "last" or not any(np.isfinite(h.trajectory_error) for h in history):
-            chosen = len(history) - 1 if history and status != "infeasible" else None
-            return IOCResult(w, status, tuple(history), chosen, notes)
+            return IOCResult(w, status, tuple(history), len(history) - 1, notes)
         chosen = int(np.nanargmin([h.trajectory_error for h in history]))
         return IOCResult(np.array(history[chosen].weights), status, tuple(history), chosen, notes)
 

@@ -6,9 +6,7 @@ weights in ``[lower, upper]`` under which every sample costs more than the obser
 
 - ``"paper"``: maximise ``sum_i log(offset + w . d_i)`` on the raw differences, as printed;
 - ``"center"``: maximise ``sum_i log(w . d_i / |d_i|)``, the analytic centre of the cone of
-  separating weights (used by the analytic-centre cutting-plane variant);
-- ``"maxmin"``: maximise the smallest scaled separation ``min_i w . d_i / |d_i|``, which
-  may be negative: the weights that violate inconsistent samples least.
+  separating weights (used by the analytic-centre cutting-plane variant).
 
 With features of 1e-4..1e-6 the separation constraints are about 1e-5 in raw units, below
 IPOPT's constraint tolerance; they are therefore imposed on unit-scaled rows
@@ -58,15 +56,16 @@ def fit_weights(
     lower: float = 0.001,
     upper: float = 0.999,
     start: np.ndarray | None = None,
+    relax: float = 0.0,
 ) -> WeightFit:
-    """Solve the weight optimization for the (n, F) differences ``diffs``."""
+    """Solve the weight optimization for the (n, F) differences ``diffs``.
+
+    ``relax > 0`` loosens every separation to ``w . d_i / |d_i| >= -relax`` (for samples
+    no weights separate; see :func:`max_margin`).
+    """
     diffs = np.atleast_2d(np.asarray(diffs, dtype=float))
     f = diffs.shape[1]
-    norms = np.linalg.norm(diffs, axis=1)
-    keep = norms > 0
-    unit = diffs[keep] / norms[keep, None]
-    if objective == "maxmin":
-        return _maxmin(unit, lower, upper, start)
+    unit = _unit_rows(diffs)
     w = ca.SX.sym("w", f)
     s = ca.SX.sym("s", unit.shape[0])  # scaled separations, kept >= 0
     if objective == "paper":
@@ -75,12 +74,11 @@ def fit_weights(
         # The cone's walls w_j >= lower are cuts too: centre among all of them.
         obj = -ca.sum1(ca.log(s)) - ca.sum1(ca.log(w - lower + 1e-12))
     else:
-        raise ValueError(f"unknown weight objective {objective!r}; valid: paper, center, maxmin")
-    g = ca.vertcat(s - ca.mtimes(ca.DM(unit), w), ca.sumsqr(w) - 1)
+        raise ValueError(f"unknown weight objective {objective!r}; valid: paper, center")
+    g = ca.vertcat(s - ca.mtimes(ca.DM(unit), w) - relax, ca.sumsqr(w) - 1)
     solver = ca.nlpsol("weights", "ipopt", {"x": ca.vertcat(w, s), "f": obj, "g": g}, _OPTIONS)
-    w0 = np.full(f, 1.0 / np.sqrt(f)) if start is None else np.clip(np.asarray(start, dtype=float), lower, upper)
-    w0 = w0 / np.linalg.norm(w0)
-    s0 = np.maximum(unit @ w0, 1e-3)
+    w0 = _start(start, f, lower, upper)
+    s0 = np.maximum(unit @ w0 + relax, 1e-3)
     sol = solver(
         x0=np.concatenate([w0, s0]),
         lbx=np.concatenate([np.full(f, lower), np.zeros(len(s0))]),
@@ -91,30 +89,40 @@ def fit_weights(
     status = str(solver.stats()["return_status"])
     weights = np.asarray(sol["x"], dtype=float).ravel()[:f]
     margin = float(np.min(unit @ weights, initial=np.inf))
-    ok = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level") and margin >= -1e-8
+    ok = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level") and margin >= -relax - 1e-8
     if not ok:
         weights = w0
     return WeightFit(weights=weights / np.linalg.norm(weights), success=ok, status=status, min_margin=margin)
 
 
-def _maxmin(unit: np.ndarray, lower: float, upper: float, start: np.ndarray | None) -> WeightFit:
-    """Unit weights maximising the smallest scaled separation (which may be negative)."""
-    f = unit.shape[1]
+def max_margin(diffs: np.ndarray, lower: float = 0.0, upper: float = 1.0, start: np.ndarray | None = None) -> float:
+    """The largest achievable smallest scaled separation ``max_w min_i w . d_i / |d_i|``.
+
+    Negative when no weights separate every sample; then ``-max_margin`` is how far the
+    separations must be relaxed for any weights to exist.
+    """
+    unit = _unit_rows(np.atleast_2d(np.asarray(diffs, dtype=float)))
+    f, n = unit.shape[1], unit.shape[0]
     w, t = ca.SX.sym("w", f), ca.SX.sym("t")
     g = ca.vertcat(ca.mtimes(ca.DM(unit), w) - t, ca.sumsqr(w) - 1)
-    solver = ca.nlpsol("maxmin", "ipopt", {"x": ca.vertcat(w, t), "f": -t, "g": g}, _OPTIONS)
-    w0 = np.full(f, 1.0 / np.sqrt(f)) if start is None else np.clip(np.asarray(start, dtype=float), lower, upper)
-    w0 = w0 / np.linalg.norm(w0)
-    n = unit.shape[0]
+    solver = ca.nlpsol("margin", "ipopt", {"x": ca.vertcat(w, t), "f": -t, "g": g}, _OPTIONS)
+    w0 = _start(start, f, lower, upper)
     sol = solver(
         x0=np.append(w0, float(np.min(unit @ w0, initial=0.0))),
         lbx=np.append(np.full(f, lower), -np.inf),
         ubx=np.append(np.full(f, upper), np.inf),
-        lbg=np.append(np.zeros(n), 0.0),
+        lbg=np.zeros(n + 1),
         ubg=np.append(np.full(n, np.inf), 0.0),
     )
-    status = str(solver.stats()["return_status"])
-    weights = np.asarray(sol["x"], dtype=float).ravel()[:f]
-    ok = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
-    weights = weights if ok else w0
-    return WeightFit(weights / np.linalg.norm(weights), ok, status, float(np.min(unit @ weights, initial=np.inf)))
+    return float(np.asarray(sol["x"]).ravel()[-1])
+
+
+def _unit_rows(diffs: np.ndarray) -> np.ndarray:
+    norms = np.linalg.norm(diffs, axis=1)
+    keep = norms > 0
+    return diffs[keep] / norms[keep, None]
+
+
+def _start(start: np.ndarray | None, f: int, lower: float, upper: float) -> np.ndarray:
+    w0 = np.full(f, 1.0 / np.sqrt(f)) if start is None else np.clip(np.asarray(start, dtype=float), lower, upper)
+    return w0 / np.linalg.norm(w0)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ioc_bench.ioc.weight_fit import fit_weights
+from ioc_bench.ioc.weight_fit import fit_weights, max_margin
 
 
 def _cuts(true: np.ndarray, n: int, rng: np.random.Generator, scale: float = 1e-5) -> np.ndarray:
@@ -34,10 +34,13 @@ def test_center_converges_to_truth_as_cuts_accumulate(rng):
     assert errors[-1] < errors[0] and errors[-1] < 0.02
 
 
-def test_inconsistent_cuts_are_infeasible_and_maxmin_violates_least():
-    d = np.array([[1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [0.0, 0.0, -1.0]])
-    fit = fit_weights(d, "center", lower=0.0, upper=1.0)
-    assert not fit.success
-    least = fit_weights(d, "maxmin", lower=0.0, upper=1.0)
-    assert least.success and least.min_margin < 0
-    assert least.min_margin > -0.5  # better than the worst corner
+def test_inconsistent_cuts_are_infeasible_until_relaxed_by_the_max_margin():
+    # w1 >= 2 w2 and w2 >= 2 w1 force w1 = w2 = 0, and then w3 <= 0: no unit weights fit.
+    d = np.array([[1.0, -2.0, 0.0], [-2.0, 1.0, 0.0], [0.0, 0.0, -1.0]])
+    assert not fit_weights(d, "center", lower=0.0, upper=1.0).success
+    assert not fit_weights(d, "paper").success
+    t = max_margin(d)
+    assert t < 0
+    relaxed = fit_weights(d, "center", lower=0.0, upper=1.0, relax=1.5 * -t)
+    assert relaxed.success and relaxed.min_margin >= 1.5 * t - 1e-8
+    assert not fit_weights(d, "center", lower=0.0, upper=1.0, relax=0.5 * -t).success
