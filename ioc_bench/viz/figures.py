@@ -302,7 +302,7 @@ WEIGHT_SET_MARKERS = {"nominal": "o", "penalize-hip": "^", "penalize-knee": "s",
 
 
 def plot_figure6(results: Sequence[CaseResult], path: str | os.PathLike) -> Path:
-    """Figure 6: weight error (left) and trajectory error (right, log) per condition.
+    """Figure 6: weight error (top) and trajectory error (bottom, log) per condition.
 
     One bar per algorithm in each condition's group: the mean over weight sets and seeds
     of the cases that did not fail; every such case is a dot (marker: weight set; hollow
@@ -313,8 +313,8 @@ def plot_figure6(results: Sequence[CaseResult], path: str | os.PathLike) -> Path
         raise ValueError("no results to plot")
     conditions = condition_order(r.condition for r in results)
     algorithms = sorted({r.algorithm for r in results})
-    width = max(10.0, 1.1 * len(conditions) * (1 + 0.4 * len(algorithms)) * 2)
-    fig, axes = plt.subplots(1, 2, figsize=(width, 4.8))
+    width = max(8.0, 1.1 * len(conditions) * (1 + 0.4 * len(algorithms)))
+    fig, axes = plt.subplots(2, 1, figsize=(width, 8.4))
     labels = ("weight error: mean |w - w*|", "trajectory error (log scale)")
     for ax, metric, label in zip(axes, ("weight_error", "trajectory_error"), labels):
         for k, alg in enumerate(algorithms):
