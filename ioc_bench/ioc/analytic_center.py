@@ -16,12 +16,13 @@ forward solves, iterate):
 - the weight step is the analytic centre of the cone of separating weights, in features
   scaled by their observed values, so every cut goes through the middle of what is left;
 - the forward step is a proximal solve anchored at x*: minimise ``w.phi(x)/w.phi(x*) +
-  lambda * D(x, x*)``. It starts at x*, so it can only come back cheaper under ``w``: if
-  ``w`` is not optimal for x* it yields a cut (x* is locally optimal for the true weights,
-  so the cut never removes them); if it returns x* itself, ``w`` is consistent with the
-  observation. ``lambda`` rises through a ladder until a cut is found;
+  lambda * D(x, x*)``. Started at x* and held near it, it comes back cheaper under ``w``
+  whenever ``w`` is not optimal for x*, which is a cut (and, x* being locally optimal for the
+  true weights, a cut that keeps them); if it returns x* itself, ``w`` is consistent with
+  the observation. ``lambda`` rises through a ladder until a cut is found;
 - it stops when no cut is found at the largest ``lambda`` or the weights stop moving, and
-  outputs the last centre;
+  outputs the last centre. Known limit: IPOPT can still wander off and return a costlier
+  step, which this rule also reads as "no cut" (seen once in the ablation, docs/ioc.md);
 - when the observation is infeasible for the IOC's model (noise, wrong mass or speed), it
   works around the observation's feasible projection x^ instead (x^ = x* when x* is
   feasible);

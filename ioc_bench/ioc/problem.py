@@ -129,8 +129,9 @@ class IOCProblem:
                 values as the initial guess) or None (start from the observed step).
             proximal: if > 0, minimise ``w.phi(x) / w.phi(anchor) + proximal * D(x, anchor)``
                 instead, with ``D`` the span-normalised mean squared distance of
-                :meth:`trajectory_error`: a proximal step that stays in the anchor's basin
-                and never costs more than the anchor under ``w``.
+                :meth:`trajectory_error`: a proximal step meant to stay in the anchor's
+                basin. Started at the anchor it normally returns a step no costlier than
+                the anchor under ``w``, but IPOPT can still wander: check the result.
             anchor: the proximal term's centre (default: the observed step).
         """
         unit_w = normalize(weights)

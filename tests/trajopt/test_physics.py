@@ -113,8 +113,8 @@ def test_hermite_simpson_defects_vanish_for_collocated_states(nominal_demo):
     assert np.abs(simpson[..., angular]).max() < 1e-7
     assert np.abs(hermite[..., angular]).max() < 1e-7
     translational = [0, 1, 3, 4]
-    step = traj.duration * nominal_demo.task.speed
-    assert np.abs(simpson[..., translational]).max() < 0.05 * step  # discretization error, reported
+    # Discretization error only: 2e-4 measured here; a lock "kick" artifact gave 2e-2.
+    assert np.abs(simpson[..., translational]).max() < 2e-3
 
 
 def test_pins_hold_at_every_knot(nominal_demo):
