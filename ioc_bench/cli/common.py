@@ -40,6 +40,17 @@ def positive_int(text: str) -> int:
     return value
 
 
+def json_object(text: str) -> dict:
+    """An argparse type: a JSON object (e.g. algorithm config overrides)."""
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise argparse.ArgumentTypeError(f"not valid JSON ({exc})") from None
+    if not isinstance(value, dict):
+        raise argparse.ArgumentTypeError(f"must be a JSON object, got {text!r}")
+    return value
+
+
 def add_json_flag(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print the report as one JSON object on stdout")
 

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, print_json, weights_arg
+from ioc_bench.cli.common import UsageError, add_json_flag, json_object, print_json, weights_arg
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -16,7 +15,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--weights", type=weights_arg, default="nominal", help="true weights: set name or hip,knee,dtau")
     p.add_argument("--condition", default="ideal", help="robustness condition (default ideal)")
     p.add_argument("--seed", type=int, default=0, help="seed of the algorithm and of observation noise")
-    p.add_argument("--config", default="{}", help="algorithm config overrides as JSON, e.g. '{\"n_random\": 5}'")
+    config_help = "algorithm config overrides as JSON, e.g. '{\"n_random\": 5}'"
+    p.add_argument("--config", type=json_object, default={}, help=config_help)
     p.add_argument("--out", type=Path, default=Path("ioc_result.json"), help="result file (JSON); plot beside it")
     add_json_flag(p)
     p.set_defaults(run=run)
@@ -32,9 +32,6 @@ def run(args: argparse.Namespace) -> int:
     try:
         get_algorithm(args.algorithm)
         condition = get_condition(args.condition)
-        config = json.loads(args.config)
-        if not isinstance(config, dict):
-            raise ValueError("--config must be a JSON object")
     except (AlgorithmError, ValueError) as exc:
         raise UsageError(str(exc)) from None
     if not args.json:
@@ -43,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
     try:
-        result = run_case(args.algorithm, args.weights, condition, args.seed, config=config)
+        result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config)
     except AlgorithmError as exc:
         raise UsageError(str(exc)) from None
     atomic_write_json(args.out, result.to_dict())

@@ -7,18 +7,17 @@ command again resumes, skipping finished cases.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, positive_float, positive_int, print_json
+from ioc_bench.cli.common import UsageError, add_json_flag, json_object, positive_float, positive_int, print_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a benchmark suite and print its leaderboard", description=__doc__)
     p.add_argument("--suite", default="smoke", help="suite name (default smoke; see --list)")
     p.add_argument("--algorithm", default="log-barrier", help="registered algorithm (default log-barrier)")
-    p.add_argument("--config", default="{}", help="algorithm config overrides as JSON")
+    p.add_argument("--config", type=json_object, default={}, help="algorithm config overrides as JSON")
     p.add_argument("--out", type=Path, default=Path("results"), help="results directory (default results/)")
     p.add_argument("--workers", type=positive_int, default=None, help="parallel cases (default: all cores)")
     p.add_argument("--executor", choices=("local", "ray"), default="local", help="local processes or a Ray cluster")
@@ -45,14 +44,11 @@ def run(args: argparse.Namespace) -> int:
     try:
         suite = get_suite(args.suite)
         get_algorithm(args.algorithm)
-        config = json.loads(args.config)
-        if not isinstance(config, dict):
-            raise ValueError("--config must be a JSON object")
     except (AlgorithmError, ValueError) as exc:
         raise UsageError(str(exc)) from None
     if args.executor == "ray":
         _require_ray()
-    specs = suite.cases(args.algorithm, config)
+    specs = suite.cases(args.algorithm, args.config)
     say = (lambda msg: print(msg, file=sys.stderr)) if not args.json else (lambda msg: None)
     say(f"suite {suite.name}: {len(specs)} cases of {args.algorithm} -> {args.out}/")
     failures = [0]
@@ -63,7 +59,8 @@ def run(args: argparse.Namespace) -> int:
             bar.update(1)
             bar.set_postfix(failures=failures[0])
             mark = f"FAILED ({result.reason})" if result.failed else f"weight error {result.weight_error:.4f}"
-            bar.write(f"  {spec.key}: {mark}, {result.wall_time:.0f} s", file=sys.stderr) if not args.json else None
+            if not args.json:
+                bar.write(f"  {spec.key}: {mark}, {result.wall_time:.0f} s", file=sys.stderr)
 
         try:
             summary = run_cases(
