@@ -16,17 +16,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES
+from ioc_bench.features import COST_FEATURES, model_features
 from ioc_bench.fileio import atomic_write
-from ioc_bench.model.params import WalkerParams
-from ioc_bench.model.walker import ACTUATORS, LOCKS, PINS, SEGMENTS
+from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.gait_model import GaitParams
 from ioc_bench.task import Task
 from ioc_bench.trajectory import Trajectory
+from ioc_bench.trajopt.gait_figures import GaitFigures
+from ioc_bench.trajopt.local_minimum import LocalMinimumCheck
 from ioc_bench.trajopt.multistart import MultiStartSummary, StartRecord
 from ioc_bench.trajopt.solver import SolverReport
 
 #: Version of the file layout; bump on any incompatible change.
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 _TRAJ_PREFIX = "traj_"
 
 
@@ -48,18 +50,25 @@ class Demonstration:
         multistart: the spread of optima over all starts (None for a single solve).
         n_intervals: Hermite-Simpson intervals of the transcription.
         lam_x, lam_g: IPOPT multipliers at the solution, for warm starts (may be empty).
+        model: name of the gait model (see ``ioc_bench.model.catalogue``).
+        gait: step length, duration, cadence, clearance, peak torques, active bounds.
+        local_minimum: the check that no proximal descent under its own weights finds a
+            cheaper step (None if not checked, e.g. for an infeasible solve).
     """
 
     trajectory: Trajectory
     weights: dict[str, float]
     features: dict[str, float]
-    params: WalkerParams
+    params: GaitParams
     task: Task
     solver: SolverReport
     multistart: MultiStartSummary | None = None
     n_intervals: int = 0
     lam_x: np.ndarray = field(default_factory=lambda: np.zeros(0))
     lam_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    model: str = "walker"
+    gait: GaitFigures | None = None
+    local_minimum: LocalMinimumCheck | None = None
 
     @property
     def times(self) -> np.ndarray:
@@ -78,12 +87,15 @@ class Demonstration:
             "weights": self.weights,
             "features": self.features,
             "params": self.params.to_dict(),
-            "task": {"speed": self.task.speed},
+            "task": self.task.to_dict(),
             "solver": self.solver.to_dict(),
             "multistart": None
             if self.multistart is None
             else {"best": self.multistart.best, "starts": [s.to_dict() for s in self.multistart.starts]},
             "n_intervals": self.n_intervals,
+            "model": self.model,
+            "gait": None if self.gait is None else self.gait.to_dict(),
+            "local_minimum": None if self.local_minimum is None else self.local_minimum.to_dict(),
         }
         arrays = {_TRAJ_PREFIX + k: v for k, v in self.trajectory.to_arrays().items()}
         arrays |= {"lam_x": self.lam_x, "lam_g": self.lam_g, "meta": np.array(json.dumps(meta))}
@@ -118,30 +130,37 @@ class Demonstration:
         if missing:
             raise ValueError(f"missing trajectory arrays {missing}")
         traj = Trajectory.from_arrays({n: arrays[_TRAJ_PREFIX + n] for n in traj_fields})
-        _check_shapes(traj)
+        model = get_model(meta.get("model", "walker"))
+        params = model.params_from_dict(meta["params"])
+        _check_shapes(traj, model.linkage(params))
         ms = meta.get("multistart")
         summary = None
         if ms is not None:
             summary = MultiStartSummary(tuple(StartRecord.from_dict(s) for s in ms["starts"]), int(ms["best"]))
         features = {k: float(v) for k, v in meta["features"].items()}
-        if set(features) != set(ALL_FEATURES):
-            raise ValueError(f"features {sorted(features)} do not match {list(ALL_FEATURES)}")
+        if set(features) != set(model_features(model)):
+            raise ValueError(f"features {sorted(features)} do not match {list(model_features(model))}")
+        gait, check = meta.get("gait"), meta.get("local_minimum")
         return cls(
             trajectory=traj,
             weights={k: float(v) for k, v in meta["weights"].items()},
             features=features,
-            params=WalkerParams.from_dict(meta["params"]),
+            params=params,
             task=Task(**meta["task"]),
             solver=SolverReport(**meta["solver"]),
             multistart=summary,
             n_intervals=int(meta["n_intervals"]),
             lam_x=np.asarray(arrays.get("lam_x", np.zeros(0)), dtype=float),
             lam_g=np.asarray(arrays.get("lam_g", np.zeros(0)), dtype=float),
+            model=model.name,
+            gait=None if gait is None else GaitFigures.from_dict(gait),
+            local_minimum=None if check is None else LocalMinimumCheck.from_dict(check),
         )
 
 
-def _check_shapes(traj: Trajectory) -> None:
-    t, s, a, lk, p = traj.n_knots, len(SEGMENTS), len(ACTUATORS), len(LOCKS), len(PINS)
+def _check_shapes(traj: Trajectory, linkage) -> None:
+    t, s, a = traj.n_knots, len(linkage.segments), len(linkage.actuated)
+    lk, p = len(linkage.locked), len(linkage.pins)
     expected = {
         "q": (t, s, 3),
         "v": (t, s, 3),
@@ -150,6 +169,7 @@ def _check_shapes(traj: Trajectory) -> None:
         "lock": (t, lk),
         "pin_forces": (t, p, 2),
         "impulses": (p, 2),
+        "trail_impulse": (2,),
         "lock_impulses": (lk,),
     }
     for name, shape in expected.items():

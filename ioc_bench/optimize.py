@@ -1,7 +1,9 @@
 """``optimize_gait``: the optimal step for given weights, as a :class:`Demonstration`.
 
 This is the forward problem every other part of ioc-bench calls: the benchmark to make
-demonstrations, IOC algorithms (through their oracles) to test candidate weights.
+demonstrations, IOC algorithms (through their oracles) to test candidate weights. Every
+step it returns has been checked for being a local minimum of its own cost (and polished
+until it is, see :mod:`ioc_bench.trajopt.local_minimum`), and carries its gait figures.
 """
 
 from __future__ import annotations
@@ -11,14 +13,16 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ioc_bench.demo import Demonstration
-from ioc_bench.features import ALL_FEATURES, evaluate
-from ioc_bench.model.params import WalkerParams
-from ioc_bench.model.walker import walker_linkage
+from ioc_bench.features import evaluate, model_features
+from ioc_bench.model.gait_model import GaitModel, GaitParams
+from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
-from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS
-from ioc_bench.trajopt.initial_guess import perturbed_step, rough_step
+from ioc_bench.trajopt.gait_figures import solved_gait_figures
+from ioc_bench.trajopt.initial_guess import multistart_guesses
+from ioc_bench.trajopt.local_minimum import verify_local_minimum
 from ioc_bench.trajopt.multistart import pick_best, solve_starts
-from ioc_bench.trajopt.solver import SolveResult, StartPoint, get_solver
+from ioc_bench.trajopt.solver import GaitSolver, SolveResult, StartPoint, get_solver
+from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS, StepRules
 from ioc_bench.weights import WeightSpec, parse_weights
 
 #: The paper's number of starts.
@@ -27,7 +31,7 @@ DEFAULT_STARTS = 15
 
 def optimize_gait(
     weights: WeightSpec = "nominal",
-    params: WalkerParams | None = None,
+    params: GaitParams | None = None,
     task: Task | None = None,
     starts: int = DEFAULT_STARTS,
     seed: int = 0,
@@ -36,14 +40,17 @@ def optimize_gait(
     workers: int | None = None,
     n_intervals: int = DEFAULT_INTERVALS,
     on_start_done: Callable[[int, int], None] | None = None,
+    rules: StepRules = StepRules(),
+    model: GaitModel = WALKER,
+    verify: bool = True,
 ) -> Demonstration:
     """Optimize the periodic step for ``weights``; returns the best feasible optimum found.
 
     Args:
-        weights: a name of ``WEIGHT_SETS``, numbers over (hip, knee, dtau) or over all six
-            features, or a mapping from feature name to weight. Normalised to unit norm.
-        params: the walker model (default: SPEC section 1).
-        task: the task (default: speed 0.27).
+        weights: a name of ``WEIGHT_SETS``, numbers over (hip, knee, dtau) or over all the
+            model's features, or a mapping from feature name to weight. Normalised to unit norm.
+        params: the model's parameters (default: the model's nominal ones, SPEC section 1).
+        task: the task (default: speed 0.27, step length free).
         starts: multi-start size: start 0 is the rough periodic guess, the others perturb
             it with noise drawn from ``seed``. Ignored when ``init`` is given.
         seed: seed of the start perturbations; the same seed gives the same optimum.
@@ -53,23 +60,36 @@ def optimize_gait(
         workers: processes for the multi-start (default: all cores).
         n_intervals: Hermite-Simpson intervals.
         on_start_done: called as ``(done, total)`` after each start finishes.
+        rules: formulation choices (default: the benchmark's; see ``docs/gait_regime.md``).
+        model: the gait model (default: the 5-segment walker).
+        verify: check the chosen step for being a local minimum of its own cost, and
+            polish it until it is (the check's result is stored in the demonstration).
 
     Returns:
         The demonstration, whose ``solver`` reports status, violation, iterations and time
         of the chosen solve and whose ``multistart`` summarises every start. If no start is
         feasible it is still returned, with ``solver.success`` False.
     """
-    params = params or WalkerParams()
+    params = params or model.default_params
     task = task or Task()
-    w = _weights(weights)
-    if starts < 1:
-        raise ValueError(f"starts must be >= 1, got {starts}")
-    solver = get_solver(n_intervals)
+    if isinstance(task, (int, float)) or not isinstance(task, Task):
+        raise TypeError(f"task must be a Task, got {task!r} (use Task(speed=...))")
+    features = model_features(model)
+    w = parse_weights(weights, features)
+    if not isinstance(starts, int) or starts < 1:
+        raise ValueError(f"starts must be an integer >= 1, got {starts!r}")
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    if init is not None and not isinstance(init, Demonstration):
+        raise TypeError(
+            f"init must be a Demonstration, got {type(init).__name__} (load a file with Demonstration.load)"
+        )
+    solver = get_solver(n_intervals, model)
     if init is not None:
         start = StartPoint(solver.decision_vector(init.trajectory), *_duals(init, solver))
-        result = solver.solve(start, params, task.speed, w)
-        return _demonstration(result, w, params, task, None, n_intervals)
-    origins, points = _start_points(params, task, starts, seed, guesses, solver, n_intervals)
+        result = solver.solve(start, params, task, w, rules=rules)
+        return _demonstration(solver, result, w, params, task, None, rules, verify)
+    origins, points = _start_points(model, params, task, starts, seed, guesses, solver)
     done = [0]
 
     def progress(_i: int, _r: SolveResult) -> None:
@@ -77,33 +97,23 @@ def optimize_gait(
         if on_start_done:
             on_start_done(done[0], len(points))
 
-    results = solve_starts(points, params, task.speed, w, n_intervals, workers, progress)
+    results = solve_starts(points, params, task, w, n_intervals, workers, progress, rules, model)
     best, summary = pick_best(results, origins)
-    return _demonstration(results[best], w, params, task, summary, n_intervals)
+    return _demonstration(solver, results[best], w, params, task, summary, rules, verify)
 
 
-def _weights(spec: WeightSpec) -> np.ndarray:
-    """Unit weights over ALL_FEATURES (three numbers or a set name leave distractors at 0)."""
-    return parse_weights(spec, ALL_FEATURES)
-
-
-def _duals(init: Demonstration, solver) -> tuple[np.ndarray | None, np.ndarray | None]:
+def _duals(init: Demonstration, solver: GaitSolver) -> tuple[np.ndarray | None, np.ndarray | None]:
     n_x, n_g = solver.nlp.layout.size, len(solver.nlp.constraints.lb)
     if init.lam_x.shape == (n_x,) and init.lam_g.shape == (n_g,):
         return init.lam_x, init.lam_g
     return None, None
 
 
-def _start_points(params, task, starts, seed, guesses, solver, n_intervals):
-    linkage = walker_linkage(params)
-    n_knots = 2 * n_intervals + 1
+def _start_points(model, params, task, starts, seed, guesses, solver):
     layout = solver.nlp.layout
-    origins = ["rough guess"]
-    points = [StartPoint(layout.pack(rough_step(linkage, params, task.speed, n_knots)))]
-    for i in range(1, starts):
-        rng = np.random.default_rng([seed, i])
-        points.append(StartPoint(layout.pack(perturbed_step(linkage, params, task.speed, n_knots, rng))))
-        origins.append(f"perturbed (seed {seed}, start {i})")
+    tried = multistart_guesses(model, params, task.speed, task.step_length, solver.nlp.n_knots, starts, seed)
+    origins = [origin for origin, _ in tried]
+    points = [StartPoint(layout.pack(blocks)) for _, blocks in tried]
     for j, demo in enumerate(guesses):
         points.append(StartPoint(solver.decision_vector(demo.trajectory)))
         origins.append(f"guess {j}: weights {_fmt(demo.weight_vector)}")
@@ -114,17 +124,24 @@ def _fmt(w: np.ndarray) -> str:
     return "(" + ", ".join(f"{x:.3g}" for x in w) + ")"
 
 
-def _demonstration(result: SolveResult, w, params, task, summary, n_intervals) -> Demonstration:
-    features = evaluate(result.trajectory, walker_linkage(params), ALL_FEATURES)
+def _demonstration(solver: GaitSolver, result, w, params, task, summary, rules, verify) -> Demonstration:
+    check = None
+    if verify and result.report.success:
+        result, check = verify_local_minimum(solver, result, params, task, w, rules)
+    names = solver.nlp.features
+    features = evaluate(result.trajectory, params, names, solver.model)
     return Demonstration(
         trajectory=result.trajectory,
-        weights={f: float(x) for f, x in zip(ALL_FEATURES, w)},
+        weights={f: float(x) for f, x in zip(names, w)},
         features=features,
         params=params,
         task=task,
         solver=result.report,
         multistart=summary,
-        n_intervals=n_intervals,
+        n_intervals=solver.nlp.n_intervals,
         lam_x=result.lam_x,
         lam_g=result.lam_g,
+        model=solver.model.name,
+        gait=solved_gait_figures(solver, result.x, result.trajectory, params, task, rules),
+        local_minimum=check,
     )

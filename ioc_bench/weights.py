@@ -63,11 +63,11 @@ def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> 
     return normalize(values)
 
 
-def full_weights(weights: np.ndarray, features: Sequence[str]) -> np.ndarray:
-    """Weights over ``features`` placed into a vector over ``ALL_FEATURES`` (others 0)."""
-    out = np.zeros(len(ALL_FEATURES))
+def full_weights(weights: np.ndarray, features: Sequence[str], into: Sequence[str] = ALL_FEATURES) -> np.ndarray:
+    """Weights over ``features`` placed into a vector over ``into`` (others 0)."""
+    out = np.zeros(len(into))
     for w, f in zip(weights, features):
-        out[ALL_FEATURES.index(f)] = w
+        out[list(into).index(f)] = w
     return out
 
 

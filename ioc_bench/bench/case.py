@@ -19,11 +19,12 @@ import numpy as np
 from ioc_bench._version import __version__
 from ioc_bench.bench.conditions import Condition, get_condition
 from ioc_bench.bench.demos import demonstration
+from ioc_bench.bench.observe import observe
 from ioc_bench.bench.scoring import trajectory_error, unit, weight_error
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.algorithm import IOCResult
-from ioc_bench.ioc.problem import IOCProblem, OracleSolution, add_noise
+from ioc_bench.ioc.problem import IOCProblem, OracleSolution
 from ioc_bench.ioc.registry import make_algorithm
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
@@ -141,9 +142,7 @@ def run_case(
     if not demo.solver.success:
         base["demo_features"] = {}  # a failed demonstration's features describe no optimum
         return _failed(base, f"the demonstration could not be solved ({demo.solver.status})")
-    observed = demo.trajectory
-    if cond.noise > 0:
-        observed = add_noise(observed, np.random.default_rng([seed, NOISE_STREAM]), cond.noise)
+    observed = observe(demo.trajectory, cond.noise, np.random.default_rng([seed, NOISE_STREAM]))
     problem = IOCProblem(observed, cond.features, cond.ioc_params(params), cond.ioc_task(), seed=seed)
     t0 = time.perf_counter()
     try:
@@ -204,9 +203,9 @@ def regenerate(problem: IOCProblem, weights: np.ndarray) -> OracleSolution:
     keeps these solves out of the algorithm's oracle counts.
     """
     scoring = IOCProblem(problem.observed, problem.features, problem.params, problem.task)
-    near = scoring.optimize(weights, start=problem.observed, proximal=SCORING_PROXIMAL)
+    near = scoring.optimize(weights, proximal=SCORING_PROXIMAL)  # from the projected observation
     final = scoring.optimize(weights, start=near) if near.success else near
-    return final if final.success else scoring.optimize(weights, start=problem.observed)
+    return final if final.success else scoring.optimize(weights)
 
 
 def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> CaseResult:

@@ -19,10 +19,10 @@ from ioc_bench.demo import Demonstration, DemonstrationFileError
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.task import Task
-from ioc_bench.trajopt.gait_nlp import DEFAULT_INTERVALS
+from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 
 #: Bump whenever the transcription or solver settings change the optima.
-SOLVER_REVISION = 3
+SOLVER_REVISION = 4
 #: Multi-start seed of benchmark demonstrations (case seeds vary the IOC, not the truth).
 DEMO_SEED = 0
 

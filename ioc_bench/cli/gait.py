@@ -50,8 +50,9 @@ def run(args: argparse.Namespace) -> int:
         "weights": demo.weights,
         "speed": demo.task.speed,
         "features": demo.features,
-        "step_length": demo.trajectory.duration * demo.task.speed,
-        "duration": demo.trajectory.duration,
+        "gait": demo.gait.to_dict() if demo.gait else None,
+        "warnings": demo.gait.warnings if demo.gait else [],
+        "local_minimum": demo.local_minimum.to_dict() if demo.local_minimum else None,
         "solver": solver_dict(demo.solver),
         "multistart": demo.multistart.describe() if demo.multistart else None,
         "optima": demo.multistart.optima if demo.multistart else None,
@@ -68,7 +69,27 @@ def run(args: argparse.Namespace) -> int:
 def _print_report(r: dict) -> None:
     w = ", ".join(f"{k}={v:.3f}" for k, v in r["weights"].items() if v)
     print(f"weights  {w}   speed {r['speed']:g}")
-    print(f"step     length {r['step_length']:.3f}, duration {r['duration']:.3f}")
+    g = r["gait"]
+    if g:
+        print(
+            f"step     length {g['step_length']:.3f} L, duration {g['duration']:.3f}; with a 0.9 m leg: "
+            f"{g['step_length_m']:.2f} m at {g['cadence']:.0f} steps/min, {g['speed_mps']:.2f} m/s"
+        )
+        print(
+            f"swing    foot clearance max {g['max_clearance']:.3f} L, mid-swing min {g['mid_swing_clearance']:.4f} L; "
+            "peak |torque| " + ", ".join(f"{k} {v:.3f}" for k, v in g["peak_torques"].items())
+        )
+        physical = ", ".join(f"{k} x{n}" for k, n in g["active"].get("physical", {}).items()) or "none"
+        print(f"bounds   active (physical): {physical}")
+    for warning in r["warnings"]:
+        print(f"warning  {warning}")
+    check = r["local_minimum"]
+    if check:
+        verdict = "local minimum" if check["passed"] else "NOT VERIFIED as a local minimum"
+        print(
+            f"check    {verdict}: proximal descents found at most {check['largest_decrease']:.1e} relative decrease "
+            f"(tolerance {check['tolerance']:g}); polished {check['rounds']} time(s), by {check['polished_by']:.1e}"
+        )
     print("features " + "  ".join(f"{k}={v:.4e}" for k, v in r["features"].items()))
     s = r["solver"]
     ok = "feasible" if s["success"] else "NOT FEASIBLE"

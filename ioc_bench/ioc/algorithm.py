@@ -12,31 +12,39 @@ from ioc_bench.ioc.problem import IOCProblem
 
 @dataclass(frozen=True)
 class IterationRecord:
-    """One iteration of an iterative IOC method.
+    """One iteration of an iterative IOC method: a candidate and its optimal step.
 
     Attributes:
         weights: (F,) candidate weights (unit norm).
-        trajectory_error: error of the candidate's optimal step to the observation
-            (:meth:`IOCProblem.trajectory_error`), NaN if the solve failed.
+        tracking_error: :meth:`IOCProblem.tracking_error` of the candidate's step (positions,
+            velocities and torques, span-normalised), NaN if its solve failed.
+        trajectory_error: the paper's :meth:`IOCProblem.trajectory_error` of that step
+            (segment angles and angular velocities), NaN if its solve failed.
         solve_status: status of the candidate's forward solve.
-        cost_gap: ``w . (phi(x_w) - phi(x*))`` relative to ``w . phi(x*)``: negative when
-            the new step is cheaper than the observation under the candidate, i.e. the new
-            sample cuts the candidate off; >= 0 means it adds no information.
-        extra: algorithm-specific numbers for this iteration.
+        extra: algorithm-specific numbers for this iteration (e.g. a cutting-plane method's
+            ``cost_gap``), shown as they are.
     """
 
     weights: tuple[float, ...]
+    tracking_error: float
     trajectory_error: float
     solve_status: str = ""
-    cost_gap: float = float("nan")
     extra: dict[str, Any] = field(default_factory=dict)
-
-    @property
-    def cuts(self) -> bool:
-        return bool(self.cost_gap < 0)
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+    @classmethod
+    def of(cls, problem: IOCProblem, weights: np.ndarray, solution: Any, **extra: Any) -> IterationRecord:
+        """The record of candidate ``weights`` and its oracle ``solution``."""
+        ok = bool(solution.success)
+        return cls(
+            weights=tuple(float(x) for x in weights),
+            tracking_error=problem.tracking_error(solution.trajectory) if ok else float("nan"),
+            trajectory_error=problem.trajectory_error(solution.trajectory) if ok else float("nan"),
+            solve_status=str(solution.status),
+            extra=extra,
+        )
 
 
 @dataclass(frozen=True)
@@ -69,6 +77,8 @@ class IOCAlgorithm:
 
     name: ClassVar[str] = ""
     description: ClassVar[str] = ""
+    #: The method family (e.g. ``cutting-plane``, ``inverse-kkt``, ``bilevel``, ``single-level``).
+    family: ClassVar[str] = "other"
     Config: ClassVar[type] = type(None)
 
     def __init__(self, config: Any = None, **overrides: Any):

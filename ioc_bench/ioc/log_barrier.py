@@ -24,7 +24,7 @@ from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution
 from ioc_bench.ioc.registry import register_algorithm
 from ioc_bench.ioc.weight_fit import fit_weights, max_margin
-from ioc_bench.trajectory import Trajectory
+from ioc_bench.trajectory import Observation
 
 #: When the cuts are inconsistent, relax them by this multiple of the smallest relaxation
 #: that makes any weights feasible, and take the centre of what remains.
@@ -52,8 +52,13 @@ class LogBarrierConfig:
         proximal: the ladder of proximal weights.
         stop_without_cut: stop (converged) when a candidate's step adds no cut.
         cut_tol: a relative cost decrease below this is not a cut.
-        reference: ``"observed"``: x*; ``"feasible"``: x* if the IOC's model can produce
-            it, else its feasible projection.
+        reference: ``"observed"``: x* (its features as measured); ``"feasible"``: the
+            observation's feasible projection (x* itself when the IOC's model can produce it).
+        forward_start: forward solves start at the projected observation ``"warm"`` (its
+            primal-dual point: they begin exactly there) or ``"cold"`` (its values with the
+            cold-start settings, whose bound push moves them).
+        forward_starts: forward solves also try this many - 1 rough guesses with noise and keep
+            the cheapest feasible step (the paper's multi-start: 15).
         output: ``"min-error"``: the candidate whose step was closest to the observation
             (the paper); ``"last"``: the last candidate.
     """
@@ -72,17 +77,20 @@ class LogBarrierConfig:
     stop_without_cut: bool = False
     cut_tol: float = 1e-7
     reference: str = "observed"
+    forward_start: str = "cold"
+    forward_starts: int = 1
     output: str = "min-error"
 
     def __post_init__(self) -> None:
-        if self.n_random < 0 or self.max_iterations < 1:
-            raise ValueError("n_random must be >= 0 and max_iterations >= 1")
+        if self.n_random < 0 or self.max_iterations < 1 or self.forward_starts < 1:
+            raise ValueError("n_random must be >= 0, max_iterations and forward_starts >= 1")
         if not (self.perturbation > 0 and self.weight_tol >= 0 and 0 <= self.lower < self.upper <= 1):
             raise ValueError("perturbation must be > 0, weight_tol >= 0 and 0 <= lower < upper <= 1")
         choices = {
             "objective": ("paper", "center"),
             "forward": ("plain", "proximal"),
             "reference": ("observed", "feasible"),
+            "forward_start": ("warm", "cold"),
             "output": ("min-error", "last"),
         }
         for name, valid in choices.items():
@@ -116,9 +124,10 @@ class LogBarrier(IOCAlgorithm):
 
     def fit(self, problem: IOCProblem) -> IOCResult:
         cfg: LogBarrierConfig = self.config
-        ref = self._reference(problem)
-        if ref is None:
+        reference = self._reference(problem)
+        if reference is None:
             return IOCResult(np.full(problem.n_features, np.nan), "failed: the observation could not be projected")
+        ref, start = reference
         phi_ref = problem.features_of(ref)
         unit = np.maximum(phi_ref, 1e-3 * phi_ref.max()) if cfg.scale_features else np.ones(problem.n_features)
         samples, failed = random_samples(problem, cfg.n_random, cfg.perturbation)
@@ -132,11 +141,11 @@ class LogBarrier(IOCAlgorithm):
                 w = self._relaxed(np.array(samples), phi_ref, unit, previous, w)
                 break
             w = fit.weights if fit else _unit(1.0 / unit)
-            sol, extra = self._forward(problem, w, ref, phi_ref)
+            sol, extra = self._forward(problem, w, start, phi_ref)
             history.append(_record(problem, w, sol, phi_ref, **extra))
             if sol.success:
                 samples.append(sol.features)
-            if cfg.stop_without_cut and not history[-1].cost_gap < -cfg.cut_tol:
+            if cfg.stop_without_cut and not history[-1].extra["cost_gap"] < -cfg.cut_tol:
                 status = "converged"  # no cheaper step near the reference: w is consistent with it
                 break
             if previous is not None and np.max(np.abs(w - previous)) < cfg.weight_tol:
@@ -146,12 +155,14 @@ class LogBarrier(IOCAlgorithm):
         return self._result(problem, history, status, w, {"random_samples": n_random, "failed_projections": failed})
 
     # -- steps ------------------------------------------------------------------------------
-    def _reference(self, problem: IOCProblem) -> Trajectory | None:
-        """The step candidates are compared with: x*, or a feasible stand-in for it."""
-        if self.config.reference == "observed" or problem.is_feasible(problem.observed):
-            return problem.observed
-        projected = problem.project(problem.observed)
-        return projected.trajectory if projected.success else None
+    def _reference(self, problem: IOCProblem) -> tuple[Observation, OracleSolution] | None:
+        """The step candidates are compared with (x*, or its feasible projection), and the
+        projection, from which forward solves start."""
+        projected = problem.reference()
+        if not projected.success:
+            return None
+        observed = self.config.reference == "observed" and problem.observed.tau is not None
+        return (problem.observed if observed else projected.trajectory), projected
 
     def _fit(self, samples: np.ndarray, phi_ref: np.ndarray, unit: np.ndarray, previous):
         """Weights from the samples (step 2), in raw units."""
@@ -172,13 +183,14 @@ class LogBarrier(IOCAlgorithm):
         fit = fit_weights(d, "center", lower=cfg.lower, upper=cfg.upper, start=start, relax=relax)
         return _unit(fit.weights / unit) if fit.success else current
 
-    def _forward(self, problem: IOCProblem, w: np.ndarray, ref: Trajectory, phi_ref: np.ndarray):
+    def _forward(self, problem: IOCProblem, w: np.ndarray, start: OracleSolution, phi_ref: np.ndarray):
         """The candidate's step (step 3): plain, or proximal until it cuts."""
         cfg = self.config
+        begin = start if cfg.forward_start == "warm" else start.trajectory
         if cfg.forward == "plain":
-            return problem.optimize(w, start=ref), {}
+            return problem.optimize(w, start=begin, starts=cfg.forward_starts), {}
         for lam in cfg.proximal:
-            sol = problem.optimize(w, start=ref, proximal=lam, anchor=ref)
+            sol = problem.optimize(w, start=start, proximal=lam, anchor=start.trajectory)
             if sol.success and w @ (sol.features - phi_ref) < -cfg.cut_tol * (w @ phi_ref):
                 break
         return sol, {"proximal": lam}
@@ -187,22 +199,18 @@ class LogBarrier(IOCAlgorithm):
         """Step 4: pick the output among the candidates."""
         if w is None:
             return IOCResult(np.full(problem.n_features, np.nan), f"failed: {status} before the first candidate")
-        if self.config.output == "last" or not any(np.isfinite(h.trajectory_error) for h in history):
+        if self.config.output == "last" or not any(np.isfinite(h.tracking_error) for h in history):
             return IOCResult(w, status, tuple(history), len(history) - 1, notes)
-        chosen = int(np.nanargmin([h.trajectory_error for h in history]))
+        chosen = int(np.nanargmin([h.tracking_error for h in history]))
         return IOCResult(np.array(history[chosen].weights), status, tuple(history), chosen, notes)
 
 
 def _record(problem: IOCProblem, w: np.ndarray, sol: OracleSolution, phi_ref: np.ndarray, **extra) -> IterationRecord:
-    """The history entry of one candidate and its forward solve."""
+    """The history entry of one candidate and its forward solve; ``cost_gap`` is
+    ``w . (phi(x_w) - phi(x*)) / w . phi(x*)``: negative when the new step is cheaper than the
+    observation under the candidate (the sample cuts it off), >= 0 when it adds nothing."""
     gap = float(w @ (sol.features - phi_ref) / (w @ phi_ref)) if sol.success else float("nan")
-    return IterationRecord(
-        weights=tuple(float(x) for x in w),
-        trajectory_error=problem.trajectory_error(sol.trajectory) if sol.success else float("nan"),
-        solve_status=sol.status,
-        cost_gap=gap,
-        extra=extra,
-    )
+    return IterationRecord.of(problem, w, sol, cost_gap=gap, **extra)
 
 
 def _unit(w: np.ndarray) -> np.ndarray:

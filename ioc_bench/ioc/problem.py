@@ -1,38 +1,49 @@
 """What an IOC algorithm is given: an observation, a feature set, and counted oracles.
 
-An :class:`IOCProblem` holds the observed step (possibly noisy), the features the IOC may
-weigh (possibly with distractors) and the model and task the IOC *believes* in (possibly
-wrong). Algorithms reach the walker only through its oracles:
+An :class:`IOCProblem` holds the observed step (what a lab measures: knot times, segment
+positions and velocities, joint torques, possibly noisy, possibly without torques), the
+features the IOC may weigh (possibly with distractors) and the model and task the IOC
+*believes* in (possibly wrong). Algorithms reach the walker only through it:
 
-- :meth:`IOCProblem.optimize`: the optimal step for candidate weights (forward solve);
-- :meth:`IOCProblem.project`: the feasible step closest to an arbitrary one;
-- :meth:`IOCProblem.features_of`: feature values of a step.
+- black-box oracles: :meth:`IOCProblem.optimize` (the optimal step for candidate weights),
+  :meth:`IOCProblem.project` (the feasible step closest to a given one),
+  :meth:`IOCProblem.features_of`, :meth:`IOCProblem.is_feasible`;
+- a differentiable view of the forward problem, :attr:`IOCProblem.forward`
+  (:class:`~ioc_bench.ioc.forward_view.ForwardView`: constraint Jacobians, feature
+  gradients and Hessians, duals and the sensitivity of an optimum to the weights);
+- metrics: :meth:`IOCProblem.tracking_error` and :meth:`IOCProblem.trajectory_error`.
 
-Every oracle call is counted and timed. The true weights are not in the problem: the
-observation carries no weights, features or solver data of the demonstration.
+Every oracle and derivative call is counted and timed. The true weights are not in the
+problem, nor anything the observation does not contain (accelerations, constraint forces,
+lock torques, impulses, solver data).
 """
 
 from __future__ import annotations
 
 import time
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from ioc_bench.features import check_names, evaluate
-from ioc_bench.model.params import WalkerParams
-from ioc_bench.model.walker import walker_linkage
+from ioc_bench.metrics import trajectory_error
+from ioc_bench.model.gait_model import GaitParams
+from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
-from ioc_bench.trajectory import Trajectory
-from ioc_bench.trajopt.gait_nlp import OBJECTIVE_SCALE
+from ioc_bench.trajectory import Observation, Trajectory
+from ioc_bench.trajopt.initial_guess import multistart_guesses
 from ioc_bench.trajopt.solver import FEASIBILITY_TOL, GaitSolver, SolveResult, StartPoint, get_solver
+from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE
+from ioc_bench.trajopt.tracking import signal_spans, tracking_error, tracking_terms
 from ioc_bench.weights import full_weights, normalize
 
 #: Projection objective scale. The span-normalised distance is ~1e-3 for 5 % noise and
 #: ~1e-2 for a 10 % speed mismatch; scaled up (1e1, 1e3) it outweighed the knee-lock
 #: penalty and projections ended with lock products above the tolerance.
-PROJECTION_SCALE = 1.0
+PROJECTION_SCALE = 1e4
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,11 +51,12 @@ class OracleSolution:
     """A step returned by an oracle.
 
     Attributes:
-        trajectory: the step.
+        trajectory: the step (a full trajectory: pin forces, lock torques, impulses too).
         features: (F,) its feature values, in the problem's feature order.
         success: the solve converged to a feasible point.
         status: the solver's status string.
-        objective: the oracle's objective at the solution (``w . phi`` for ``optimize``).
+        objective: ``w . phi`` at the solution for ``optimize`` (0 for ``project``).
+        weights: (F,) the unit weights it was optimal for (zeros for a projection).
     """
 
     trajectory: Trajectory
@@ -52,6 +64,7 @@ class OracleSolution:
     success: bool
     status: str
     objective: float
+    weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
     _solve: SolveResult | None = field(default=None, repr=False)
 
 
@@ -70,6 +83,10 @@ class OracleStats:
     def to_dict(self) -> dict:
         return {"calls": dict(self.calls), "seconds": dict(self.seconds), "forward_solves": self.forward_solves}
 
+    def timed(self, name: str) -> _Timer:
+        """A context manager counting one call of ``name`` and its time."""
+        return _Timer(self, name)
+
 
 class IOCProblem:
     """One IOC task: recover weights over :attr:`features` from :attr:`observed`.
@@ -84,26 +101,30 @@ class IOCProblem:
 
     def __init__(
         self,
-        observed: Trajectory,
-        features: tuple[str, ...],
-        params: WalkerParams,
+        observed: Observation,
+        features: Sequence[str],
+        params: GaitParams,
         task: Task,
         seed: int = 0,
         solver: GaitSolver | None = None,
     ):
-        self.features = check_names(features)
+        if isinstance(observed, Trajectory):
+            observed = observed.observed()  # never hand an algorithm the solver's hidden variables
+        self.features = check_names(tuple(features))
         self.params = params
         self.task = task
         self.seed = seed
-        self._solver = solver or get_solver(_intervals(observed))
+        self._solver = solver or get_solver((observed.n_knots - 1) // 2, WALKER)
         if observed.n_knots != self._solver.nlp.n_knots:
             raise ValueError(
                 f"observed step has {observed.n_knots} knots, the IOC solver uses {self._solver.nlp.n_knots}"
             )
+        n_act = len(self._solver.nlp.actuators)
+        if observed.tau is not None and observed.tau.shape[1] != n_act:
+            raise ValueError(f"observed torques have {observed.tau.shape[1]} columns, the model has {n_act}")
         self.observed = observed
         self.stats = OracleStats()
-        self._linkage = walker_linkage(params)
-        self._spans = _signal_spans(observed)
+        self._spans = signal_spans(observed, n_act)
 
     @property
     def n_features(self) -> int:
@@ -113,103 +134,135 @@ class IOCProblem:
         """A generator seeded from the problem's seed (``stream`` separates independent uses)."""
         return np.random.default_rng([self.seed, stream])
 
+    @cached_property
+    def forward(self):
+        """The differentiable view of the forward problem (built on first use)."""
+        from ioc_bench.ioc.forward_view import ForwardView
+
+        return ForwardView(self)
+
     # -- oracles ------------------------------------------------------------------------
     def optimize(
         self,
         weights: np.ndarray,
         start: OracleSolution | Trajectory | None = None,
         proximal: float = 0.0,
-        anchor: Trajectory | None = None,
+        anchor: Observation | None = None,
+        starts: int = 1,
     ) -> OracleSolution:
         """The optimal step for ``weights`` under the IOC's model and task.
 
         Args:
             weights: (F,) non-negative weights over :attr:`features` (normalised here).
-            start: an :class:`OracleSolution` (warm primal-dual start), a trajectory (its
-                values as the initial guess) or None (start from the observed step).
+            start: an :class:`OracleSolution` (a warm primal-dual start: the solve begins
+                exactly there), a :class:`Trajectory` (its values as a cold initial guess) or
+                None (warm from :meth:`reference`, the projected observation).
             proximal: if > 0, minimise ``w.phi(x) / w.phi(anchor) + proximal * D(x, anchor)``
-                instead, with ``D`` the span-normalised mean squared distance of
-                :meth:`trajectory_error`: a proximal step meant to stay in the anchor's
-                basin. Started at the anchor it normally returns a step no costlier than
-                the anchor under ``w``, but IPOPT can still wander: check the result.
+                instead, with ``D`` the :meth:`tracking_error`: a proximal step meant to
+                stay in the anchor's basin. Started at the anchor it normally returns a step
+                no costlier than the anchor under ``w``, but IPOPT can still wander: check.
             anchor: the proximal term's centre (default: the observed step).
+            starts: also solve from ``starts - 1`` rough periodic guesses with noise (the
+                paper's multi-start, seeded from the problem's seed) and keep the cheapest
+                feasible result. Every solve counts as a forward solve.
         """
+        if not isinstance(starts, int) or starts < 1:
+            raise ValueError(f"starts must be an integer >= 1, got {starts!r}")
         unit_w = normalize(weights)
-        w = full_weights(unit_w, self.features)
+        if unit_w.size != self.n_features:
+            raise ValueError(f"expected {self.n_features} weights ({', '.join(self.features)}), got {unit_w.size}")
+        w = full_weights(unit_w, self.features, self._solver.nlp.features)
         ref = track = None
         if proximal > 0:
-            anchor = anchor or self.observed
+            anchor = self.observed if anchor is None else anchor
             cost = float(unit_w @ self.features_of(anchor))
-            ref, track = self._tracking(anchor, OBJECTIVE_SCALE * proximal * cost)
-        with self._timed("optimize"):
-            result = self._solver.solve(self._start(start), self.params, self.task.speed, w, ref=ref, track=track)
-        return self._wrap(result)
+            ref, track = tracking_terms(anchor, OBJECTIVE_SCALE * proximal * cost, self._spans)
+        points = [self._start(start), *self._guesses(starts - 1)]
+        results = []
+        for point in points:
+            with self.stats.timed("optimize"):
+                results.append(self._solver.solve(point, self.params, self.task, w, ref=ref, track=track))
+        feasible = [r for r in results if r.report.success]
+        best = min(feasible, key=lambda r: r.report.objective) if feasible else results[0]
+        return self._wrap(best, unit_w)
 
-    def project(self, target: Trajectory) -> OracleSolution:
-        """The feasible step closest to ``target`` in positions, velocities and torques.
+    def project(self, target: Observation) -> OracleSolution:
+        """The feasible step closest to ``target`` in its measured positions, velocities and
+        torques (each signal's squared error divided by its span in the observed step)."""
+        ref, track = tracking_terms(target, PROJECTION_SCALE, self._spans)
+        zeros = np.zeros(len(self._solver.nlp.features))
+        start = StartPoint(self._solver.guess_vector(target, self.params))
+        with self.stats.timed("project"):
+            result = self._solver.solve(start, self.params, self.task, zeros, ref, track)
+        return self._wrap(result, np.zeros(self.n_features))
 
-        Each signal's squared error is divided by its span in the observed step, so every
-        signal counts alike.
-        """
-        ref, track = self._tracking(target, PROJECTION_SCALE)
-        with self._timed("project"):
-            result = self._solver.solve(
-                StartPoint(self._solver.decision_vector(target)),
-                self.params,
-                self.task.speed,
-                np.zeros(6),
-                ref,
-                track,
-            )
-        return self._wrap(result)
+    @cached_property
+    def _reference(self) -> OracleSolution:
+        return self.project(self.observed)
+
+    def reference(self) -> OracleSolution:
+        """The projected observation (computed on first use, counted as one projection)."""
+        return self._reference
 
     def is_feasible(self, trajectory: Trajectory, tol: float = FEASIBILITY_TOL) -> bool:
-        """Whether a step satisfies the IOC's model and task constraints to ``tol``."""
-        with self._timed("feasibility"):
-            return self._solver.violation_of(trajectory, self.params, self.task.speed) <= tol
+        """Whether a full trajectory satisfies the IOC's model and task constraints to ``tol``."""
+        if not isinstance(trajectory, Trajectory):
+            raise TypeError("is_feasible needs a full Trajectory (an observation lacks forces): project it first")
+        with self.stats.timed("feasibility"):
+            return self._solver.violation_of(trajectory, self.params, self.task) <= tol
 
-    def features_of(self, trajectory: Trajectory) -> np.ndarray:
-        """(F,) feature values of a step, in :attr:`features` order."""
-        with self._timed("features"):
-            values = evaluate(trajectory, self._linkage, self.features)
+    def features_of(self, step: Observation) -> np.ndarray:
+        """(F,) feature values of a step (an observation with torques, or a trajectory)."""
+        with self.stats.timed("features"):
+            values = evaluate(step, self.params, self.features)
         return np.array([values[f] for f in self.features])
 
-    # -- helpers for algorithms ---------------------------------------------------------
-    def trajectory_error(self, trajectory: Trajectory) -> float:
-        """Mean squared difference to the observed step over positions, velocities and
-        torques, each signal divided by its span in the observed step (dimensionless)."""
-        diff = (trajectory.signals() - self.observed.signals()) / self._spans
-        return float(np.mean(diff**2))
+    # -- metrics and helpers for algorithms ---------------------------------------------
+    def tracking_error(self, step: Observation) -> float:
+        """Mean squared difference to the observed step over its measured positions,
+        velocities and torques, each signal divided by its span in the observed step."""
+        return tracking_error(step, self.observed, self._spans)
 
-    def perturb(self, rng: np.random.Generator, size: float) -> Trajectory:
-        """The observed step plus Gaussian noise of ``size`` times each signal's span."""
-        return add_noise(self.observed, rng, size, self._spans)
+    def trajectory_error(self, step: Observation) -> float:
+        """The paper's trajectory error to the observed step: sum over knots and segments of
+        squared segment-angle and angular-velocity differences."""
+        return trajectory_error(step, self.observed)
+
+    def perturb(self, rng: np.random.Generator, size: float) -> Observation:
+        """The observed step plus Gaussian noise of ``size`` times each measured signal's span."""
+        sig = self.observed.signals(len(self._solver.nlp.actuators))
+        noisy = sig + rng.normal(0.0, 1.0, size=sig.shape) * size * self._spans
+        return self.observed.with_signals(noisy)
 
     # -- internals ----------------------------------------------------------------------
-    def _tracking(self, target: Trajectory, strength: float) -> tuple[np.ndarray, np.ndarray]:
-        """Reference and weights of ``strength * trajectory_error(x, target)``."""
-        ref = target.signals()
-        return ref, np.broadcast_to(strength / (self._spans**2 * ref.size), ref.shape)
-
     def _start(self, start: OracleSolution | Trajectory | None) -> StartPoint:
+        if start is None:
+            start = self.reference()
         if isinstance(start, OracleSolution) and start._solve is not None:
             s = start._solve
             return StartPoint(s.x, s.lam_x, s.lam_g)
-        traj = start.trajectory if isinstance(start, OracleSolution) else (start or self.observed)
+        traj = start.trajectory if isinstance(start, OracleSolution) else start
+        if not isinstance(traj, Trajectory):
+            raise TypeError("start must be an OracleSolution, a Trajectory or None; project an observation first")
         return StartPoint(self._solver.decision_vector(traj))
 
-    def _wrap(self, result: SolveResult) -> OracleSolution:
+    def _guesses(self, n: int) -> list[StartPoint]:
+        if n <= 0:
+            return []
+        nlp = self._solver.nlp
+        tried = multistart_guesses(WALKER, self.params, self.task.speed, None, nlp.n_knots, n, self.seed)
+        return [StartPoint(nlp.layout.pack(blocks)) for _, blocks in tried]
+
+    def _wrap(self, result: SolveResult, weights: np.ndarray) -> OracleSolution:
         return OracleSolution(
             trajectory=result.trajectory,
             features=self.features_of(result.trajectory),
             success=result.report.success,
             status=result.report.status,
             objective=result.report.objective,
+            weights=weights,
             _solve=result,
         )
-
-    def _timed(self, name: str):
-        return _Timer(self.stats, name)
 
 
 class _Timer:
@@ -222,28 +275,3 @@ class _Timer:
     def __exit__(self, *exc: object) -> None:
         self.stats.calls[self.name] += 1
         self.stats.seconds[self.name] += time.perf_counter() - self.t0
-
-
-def _intervals(traj: Trajectory) -> int:
-    return (traj.n_knots - 1) // 2
-
-
-def _signal_spans(traj: Trajectory) -> np.ndarray:
-    """(n,) span (max - min) of every tracked signal, floored to stay positive."""
-    sig = traj.signals()
-    span = sig.max(axis=0) - sig.min(axis=0)
-    return np.maximum(span, 1e-3 * max(float(span.max()), 1e-12))
-
-
-def add_noise(traj: Trajectory, rng: np.random.Generator, size: float, spans: np.ndarray | None = None) -> Trajectory:
-    """``traj`` with Gaussian noise (sigma = ``size`` x each signal's span) on positions,
-    velocities and torques; the other fields are kept."""
-    spans = _signal_spans(traj) if spans is None else spans
-    t = traj.n_knots
-    noisy = traj.signals() + rng.normal(0.0, 1.0, size=(t, spans.size)) * size * spans
-    nq = traj.q[0].size
-    arrays = traj.to_arrays()
-    arrays["q"] = noisy[:, :nq].reshape(traj.q.shape)
-    arrays["v"] = noisy[:, nq : 2 * nq].reshape(traj.v.shape)
-    arrays["tau"] = noisy[:, 2 * nq :]
-    return Trajectory.from_arrays(arrays)

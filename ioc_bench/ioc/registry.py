@@ -22,6 +22,7 @@ _REGISTRY: dict[str, type[IOCAlgorithm]] = {}
 _BUILTINS = {
     "log-barrier": "ioc_bench.ioc.log_barrier:LogBarrier",
     "analytic-center": "ioc_bench.ioc.analytic_center:AnalyticCenter",
+    "inverse-kkt": "ioc_bench.ioc.inverse_kkt:InverseKKT",
 }
 
 

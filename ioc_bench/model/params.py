@@ -75,6 +75,11 @@ class WalkerParams:
     def leg_length(self) -> float:
         return self.thigh.length + self.shank.length
 
+    @property
+    def lock_range(self) -> float:
+        """Range of the locked joints (the knees): flexion in [0, lock_range]."""
+        return self.knee_max_flexion
+
     def with_leg_mass_scale(self, factor: float) -> WalkerParams:
         """A variant with every leg segment's mass scaled by ``factor``.
 
@@ -109,3 +114,64 @@ class WalkerParams:
             return cls(**segments, **scalars)
         except (KeyError, TypeError) as exc:
             raise ValueError(f"invalid walker parameters: {exc}") from exc
+
+
+def _leg_as_one(thigh: SegmentParams, shank: SegmentParams) -> SegmentParams:
+    """A rigid leg with the mass, centre of mass and inertia of a straight thigh and shank."""
+    mass = thigh.mass + shank.mass
+    com_shank = thigh.length + shank.com
+    com = (thigh.mass * thigh.com + shank.mass * com_shank) / mass
+    inertia = thigh.inertia + thigh.mass * (com - thigh.com) ** 2 + shank.inertia + shank.mass * (com_shank - com) ** 2
+    return SegmentParams(thigh.length + shank.length, mass, com, inertia)
+
+
+@dataclass(frozen=True)
+class CompassParams:
+    """Parameters of the compass walker with a torso: rigid legs, no knees.
+
+    Defaults: the 5-segment walker's torso, and legs that are its thigh and shank fused
+    straight (same mass, centre of mass and inertia), so the two models walk alike.
+
+    Attributes:
+        torso: torso segment; its proximal end is the hip.
+        leg: each leg, hip to point foot.
+        friction, max_torque, gravity: as in :class:`WalkerParams`.
+    """
+
+    torso: SegmentParams = field(default_factory=lambda: WalkerParams().torso)
+    leg: SegmentParams = field(default_factory=lambda: _leg_as_one(WalkerParams().thigh, WalkerParams().shank))
+    friction: float = 1.0
+    max_torque: float = 1.0
+    gravity: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("friction", "max_torque", "gravity"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+
+    @property
+    def total_mass(self) -> float:
+        return self.torso.mass + 2 * self.leg.mass
+
+    @property
+    def leg_length(self) -> float:
+        return self.leg.length
+
+    @property
+    def lock_range(self) -> float:
+        """No joint has a lock; the value is unused."""
+        return 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> CompassParams:
+        """Inverse of :meth:`to_dict`; raises ``ValueError`` naming a bad or missing key."""
+        try:
+            segments = {k: SegmentParams(**data[k]) for k in ("torso", "leg")}
+            scalars = {k: float(v) for k, v in data.items() if k not in segments}
+            return cls(**segments, **scalars)
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"invalid compass-walker parameters: {exc}") from exc

@@ -7,8 +7,9 @@ at its foot, the swing leg lands at the end of the step, and at heel strike the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import numpy as np
 
+from ioc_bench.model.gait_model import GaitModel, GaitRoles, GuessShape, stance_swing_angles
 from ioc_bench.model.linkage import Joint, Linkage, Pin, Segment
 from ioc_bench.model.params import SegmentParams, WalkerParams
 
@@ -20,33 +21,6 @@ LOCKS: tuple[str, ...] = ("knee_stance", "knee_swing")
 PINS: tuple[str, ...] = ("hip_stance", "hip_swing", "knee_stance", "knee_swing", "ground")
 #: Segments in storage order.
 SEGMENTS: tuple[str, ...] = ("torso", "thigh_stance", "shank_stance", "thigh_swing", "shank_swing")
-
-
-@dataclass(frozen=True)
-class GaitRoles:
-    """What each part does in a step, for a linkage that walks by swapping two legs.
-
-    Attributes:
-        contact_pin: the pin holding the stance foot to the ground (at the world origin).
-        swing_foot: (segment, point) of the foot that lands at the end of the step.
-        stance_foot: (segment, point) of the foot on the ground during the step.
-        swap_segments: pairs of segments exchanged at heel strike.
-        swap_joints: pairs of joints exchanged at heel strike.
-        torso: the segment whose angle the torso feature measures.
-    """
-
-    contact_pin: str
-    swing_foot: tuple[str, str]
-    stance_foot: tuple[str, str]
-    swap_segments: tuple[tuple[str, str], ...]
-    swap_joints: tuple[tuple[str, str], ...]
-    torso: str
-
-
-def permutation(names: tuple[str, ...], pairs: tuple[tuple[str, str], ...]) -> list[int]:
-    """Index permutation swapping each pair: ``names[perm[i]]`` is the partner of ``names[i]``."""
-    partner = dict(pairs) | {b: a for a, b in pairs}
-    return [names.index(partner.get(n, n)) for n in names]
 
 
 WALKER_ROLES = GaitRoles(
@@ -97,3 +71,28 @@ def walker_linkage(params: WalkerParams | None = None) -> Linkage:
     assert tuple(j.name for j in linkage.locked) == LOCKS
     assert tuple(p.name for p in linkage.pins) == PINS
     return linkage
+
+
+def _guess_angles(linkage: Linkage, params: WalkerParams, shape: GuessShape, s: np.ndarray) -> np.ndarray:
+    """Straight stance leg rotating, swing leg mirror-wise with a mid-swing knee bend, torso leaning."""
+    stance, swing, bump = stance_swing_angles(shape.step, params.leg_length, s)
+    names = [seg.name for seg in linkage.segments]
+    theta = np.zeros((len(s), len(names)))
+    theta[:, names.index("torso")] = shape.lean
+    theta[:, names.index("thigh_stance")] = stance
+    theta[:, names.index("shank_stance")] = stance + shape.knee_stance * bump
+    theta[:, names.index("thigh_swing")] = swing - 0.5 * shape.knee_swing * bump
+    theta[:, names.index("shank_swing")] = swing + 0.5 * shape.knee_swing * bump
+    return theta
+
+
+#: The 5-segment walker of SPEC section 1 (the benchmark's model).
+WALKER = GaitModel(
+    name="walker",
+    linkage=walker_linkage,
+    default_params=WalkerParams(),
+    params_from_dict=WalkerParams.from_dict,
+    roles=WALKER_ROLES,
+    actuator_groups={"hip": ("hip_stance", "hip_swing"), "knee": ("knee_stance", "knee_swing")},
+    guess_angles=_guess_angles,
+)

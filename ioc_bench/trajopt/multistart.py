@@ -17,8 +17,12 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.gait_model import GaitModel, GaitParams
+from ioc_bench.model.walker import WALKER
+from ioc_bench.task import Task
 from ioc_bench.trajopt.solver import SolveResult, SolverReport, StartPoint, get_solver
+from ioc_bench.trajopt.step_problem import StepRules
 
 #: Two feasible optima are the same when their costs agree to this relative tolerance.
 SAME_OPTIMUM_RTOL = 1e-5
@@ -73,22 +77,24 @@ class MultiStartSummary:
 
 
 def _solve_one(args: tuple) -> SolveResult:
-    start, params, speed, weights, n_intervals = args
-    return get_solver(n_intervals).solve(start, params, speed, weights)
+    start, params, task, weights, n_intervals, model, rules = args
+    return get_solver(n_intervals, get_model(model)).solve(start, params, task, weights, rules=rules)
 
 
 def solve_starts(
     starts: Sequence[StartPoint],
-    params: WalkerParams,
-    speed: float,
+    params: GaitParams,
+    task: Task,
     weights: np.ndarray,
     n_intervals: int,
     workers: int | None = None,
     on_done: Callable[[int, SolveResult], None] | None = None,
+    rules: StepRules = StepRules(),
+    model: GaitModel = WALKER,
 ) -> list[SolveResult]:
     """Solve from every start, in ``workers`` processes (default: all cores)."""
     workers = min(len(starts), workers or os.cpu_count() or 1)
-    jobs = [(s, params, speed, weights, n_intervals) for s in starts]
+    jobs = [(s, params, task, weights, n_intervals, model.name, rules) for s in starts]
     results: list[SolveResult | None] = [None] * len(jobs)
     if workers <= 1:
         for i, job in enumerate(jobs):
@@ -96,7 +102,7 @@ def solve_starts(
             if on_done:
                 on_done(i, results[i])
         return results  # type: ignore[return-value]
-    get_solver(n_intervals)  # build once here; forked workers inherit it
+    get_solver(n_intervals, model)  # build once here; forked workers inherit it
     with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
         futures = {pool.submit(_solve_one, job): i for i, job in enumerate(jobs)}
         for fut in as_completed(futures):

@@ -8,17 +8,17 @@ from pathlib import Path
 import numpy as np
 
 from ioc_bench.demo import Demonstration
+from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.linkage import joint_angle, point_position
-from ioc_bench.model.walker import walker_linkage
 from ioc_bench.viz.common import plt, save_figure
 
-_SEGMENT_ENDS = {
-    "torso": ("hip", "shoulder"),
-    "thigh_stance": ("hip", "knee"),
-    "shank_stance": ("knee", "foot"),
-    "thigh_swing": ("hip", "knee"),
-    "shank_swing": ("knee", "foot"),
-}
+
+def _ends(segment) -> tuple[str, str]:
+    """The two named points a segment is drawn between (its extreme points along its axis)."""
+    by_along = sorted(segment.points, key=lambda p: segment.points[p][0])
+    return by_along[0], by_along[-1]
+
+
 SNAPSHOT_SPACING = 0.45
 _LEG_COLORS = {"torso": "black", "stance": "tab:red", "swing": "tab:blue"}
 
@@ -29,17 +29,18 @@ def _color(segment: str) -> str:
 
 def plot_gait(demo: Demonstration, path: str | os.PathLike, snapshots: int = 7) -> Path:
     """Write a stick-figure + joint-angle + torque plot of ``demo`` to ``path``."""
-    link = walker_linkage(demo.params)
+    model = get_model(demo.model)
+    link = model.linkage(demo.params)
     traj = demo.trajectory
     t = traj.times
     fig, (ax_fig, ax_q, ax_tau) = plt.subplots(3, 1, figsize=(7, 9), gridspec_kw={"height_ratios": [1.3, 1, 1]})
     # Snapshots are spread sideways (like the paper's figure) so they do not overlap.
     knots = np.linspace(0, traj.n_knots - 1, snapshots).round().astype(int)
-    foot = traj.point(link, "shank_swing", "foot")
+    foot = traj.point(link, *model.roles.swing_foot)
     for j, k in enumerate(knots):
         dx = j * SNAPSHOT_SPACING
         for i, seg in enumerate(link.segments):
-            a, b = (point_position(seg, p, traj.q[k][i]) for p in _SEGMENT_ENDS[seg.name])
+            a, b = (point_position(seg, p, traj.q[k][i]) for p in _ends(seg))
             ax_fig.plot([a[0] + dx, b[0] + dx], [a[1], b[1]], color=_color(seg.name), lw=2)
         ax_fig.plot(foot[: k + 1, 0] + dx, foot[: k + 1, 1], ":", color="tab:blue", lw=1)
         ax_fig.text(dx, -0.12, f"t={t[k]:.2f}", ha="center", fontsize=7)
@@ -51,7 +52,7 @@ def plot_gait(demo: Demonstration, path: str | os.PathLike, snapshots: int = 7) 
     for joint in link.joints:
         angle = [joint_angle(link, joint, qk[:, 2]) for qk in traj.q]
         ax_q.plot(t, angle, label=joint.name.replace("_", " "))
-    ax_q.plot(t, traj.q[:, link.index("torso"), 2], "k--", label="torso")
+    ax_q.plot(t, traj.q[:, link.index(model.roles.torso), 2], "k--", label="torso")
     ax_q.set_ylabel("angle (rad)")
     ax_q.legend(fontsize=8, ncol=3)
     for i, joint in enumerate(link.actuated):

@@ -3,8 +3,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from ioc_bench.model.gait_model import permutation
 from ioc_bench.model.linkage import Joint, Linkage, Pin, Segment, pin_gap, place, point_position
-from ioc_bench.model.walker import WALKER_ROLES, permutation, walker_linkage
+from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
 
 
 def test_place_joins_every_pin(rng):

@@ -160,9 +160,14 @@ def test_post_impact_relabelled_state_is_the_start(nominal_demo):
     shifted[:, 0] -= step[0]
     np.testing.assert_allclose(traj.q[0][swap], shifted, atol=1e-8)
     assert abs(step[1]) < 1e-8 and step[0] == pytest.approx(traj.duration * nominal_demo.task.speed, rel=1e-8)
-    # the old stance foot leaves the ground with zero or upward velocity
-    lift = point_vel(traj, params, "shank_stance", "foot", v=_post_impact_velocities(traj)[None], k=0)
-    assert lift[1] >= -1e-8
+    # The paper's lift-off: the old stance foot leaves the ground with zero velocity (its
+    # pre-impact position, its post-impact velocity) and the ground only pushes it.
+    v = traj.v.copy()
+    v[-1] = _post_impact_velocities(traj)
+    lift = point_vel(traj, params, "shank_stance", "foot", v=v, k=-1)
+    assert np.abs(lift).max() < 1e-8
+    assert traj.trail_impulse[1] >= -1e-9
+    assert abs(traj.trail_impulse[0]) <= params.friction * traj.trail_impulse[1] + 1e-9
 
 
 def test_ground_pushes_inside_friction_cone_and_swing_foot_clears(nominal_demo):

@@ -1,0 +1,17 @@
+"""The gait models ioc-bench knows, by name (a demonstration file names its model)."""
+
+from __future__ import annotations
+
+from ioc_bench.model.compass import COMPASS
+from ioc_bench.model.gait_model import GaitModel
+from ioc_bench.model.walker import WALKER
+
+MODELS: dict[str, GaitModel] = {m.name: m for m in (WALKER, COMPASS)}
+
+
+def get_model(name: str) -> GaitModel:
+    """The model called ``name``; an unknown name raises ``ValueError`` listing the valid ones."""
+    try:
+        return MODELS[name]
+    except KeyError:
+        raise ValueError(f"unknown gait model {name!r}; valid: {', '.join(MODELS)}") from None
