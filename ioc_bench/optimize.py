@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ioc_bench.checks import check_count, check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import ALL_FEATURES, evaluate
 from ioc_bench.model.params import WalkerParams
@@ -58,12 +59,23 @@ def optimize_gait(
         The demonstration, whose ``solver`` reports status, violation, iterations and time
         of the chosen solve and whose ``multistart`` summarises every start. If no start is
         feasible it is still returned, with ``solver.success`` False.
+
+    Raises:
+        ValueError: bad input (weights, a ``task`` that is not a :class:`Task`, an ``init``
+            that is not a :class:`Demonstration`, counts below 1, a negative seed), before
+            any solve.
     """
-    params = params or WalkerParams()
-    task = task or Task()
+    params = _instance(params, WalkerParams, "params", "WalkerParams()") or WalkerParams()
+    task = _instance(task, Task, "task", "Task(speed=0.27)") or Task()
     w = _weights(weights)
-    if starts < 1:
-        raise ValueError(f"starts must be >= 1, got {starts}")
+    starts = check_count(starts, "starts")
+    seed = check_seed(seed)
+    workers = check_count(workers, "workers", optional=True)
+    n_intervals = check_count(n_intervals, "n_intervals")
+    init = _instance(init, Demonstration, "init", "Demonstration.load(path)")
+    guesses = [_instance(g, Demonstration, "each of guesses", "Demonstration.load(path)") for g in guesses]
+    if on_start_done is not None and not callable(on_start_done):
+        raise ValueError(f"on_start_done must be callable, got {on_start_done!r}")
     solver = get_solver(n_intervals)
     if init is not None:
         start = StartPoint(solver.decision_vector(init.trajectory), *_duals(init, solver))
@@ -80,6 +92,13 @@ def optimize_gait(
     results = solve_starts(points, params, task.speed, w, n_intervals, workers, progress)
     best, summary = pick_best(results, origins)
     return _demonstration(results[best], w, params, task, summary, n_intervals)
+
+
+def _instance(value: object, cls: type, what: str, example: str):
+    """``value`` if it is None or a ``cls``; else a ``ValueError`` showing how to make one."""
+    if value is not None and not isinstance(value, cls):
+        raise ValueError(f"{what} must be a {cls.__name__} (e.g. {example}), got {type(value).__name__} {value!r:.60}")
+    return value
 
 
 def _weights(spec: WeightSpec) -> np.ndarray:

@@ -21,5 +21,6 @@ class Task:
     speed: float = NOMINAL_SPEED
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.speed, (int, float)) and math.isfinite(self.speed) and self.speed > 0):
+        number = isinstance(self.speed, (int, float)) and not isinstance(self.speed, bool)
+        if not (number and math.isfinite(self.speed) and self.speed > 0):
             raise ValueError(f"speed must be a positive finite number, got {self.speed!r}")
