@@ -6,6 +6,7 @@ import argparse
 import json
 import math
 import sys
+from pathlib import Path
 from typing import Any, NoReturn
 
 from ioc_bench.fileio import to_jsonable
@@ -38,6 +39,37 @@ def positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
     return value
+
+
+def seed_int(text: str) -> int:
+    """An argparse type: a seed, a non-negative integer (what NumPy's generators accept)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return value
+
+
+def output_file(path: Path, what: str = "--out") -> Path:
+    """``path`` if a file can be written there, else :class:`UsageError` (checked before the work)."""
+    from ioc_bench.fileio import check_output_file
+
+    try:
+        return check_output_file(path)
+    except ValueError as exc:
+        raise UsageError(f"{what}: {exc}") from None
+
+
+def output_dir(path: Path, what: str = "--out") -> Path:
+    """``path`` if it is or can be made a writable directory, else :class:`UsageError`."""
+    from ioc_bench.fileio import check_output_dir
+
+    try:
+        return check_output_dir(path)
+    except ValueError as exc:
+        raise UsageError(f"{what}: {exc}") from None
 
 
 def json_object(text: str) -> dict:
@@ -95,5 +127,5 @@ def add_multistart_args(parser: argparse.ArgumentParser, speed_default: float) -
     speed_help = f"average forward speed (default {speed_default:g})"
     parser.add_argument("--speed", type=positive_float, default=speed_default, help=speed_help)
     parser.add_argument("--starts", type=positive_int, default=15, help="multi-start size (default 15)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the start perturbations")
+    parser.add_argument("--seed", type=seed_int, default=0, help="seed of the start perturbations (>= 0)")
     parser.add_argument("--workers", type=positive_int, default=None, help="worker processes (default: all cores)")

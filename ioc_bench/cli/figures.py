@@ -5,12 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, print_json
+from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, print_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("figures", help="Table I and Figures 4-6 from benchmark results", description=__doc__)
-    p.add_argument("results", type=Path, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench bench`)")
+    p.add_argument("results", type=Path, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench run`)")
     p.add_argument("--out", type=Path, default=Path("figures"), help="output directory (default figures/)")
     p.add_argument(
         "--algorithm",
@@ -31,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
         select_results(args.results, args.algorithm)
     except ValueError as exc:  # empty directory, unreadable result file, unknown algorithm
         raise UsageError(" ".join(str(exc).split())) from None
+    output_dir(args.out)
     written = make_figures(args.results, args.out, algorithms=args.algorithm)
     if args.json:
         print_json({name: str(path) for name, path in written.items()})
