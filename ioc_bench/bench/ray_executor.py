@@ -124,8 +124,10 @@ def _check_cluster(address: str, timeout: float) -> None:
         raise ValueError(f"could not join the Ray cluster at {address} within {timeout:g} s; {_AUTH_HINT}") from None
     if proc.returncode != 0:
         lines = [line for line in proc.stderr.splitlines() if line.strip()]
-        reason = _one_line(lines[-1]) if lines else f"exit code {proc.returncode}"
-        raise ValueError(f"could not join the Ray cluster at {address}: {reason[:300]}")
+        reason = _one_line(lines[-1])[:300] if lines else f"exit code {proc.returncode}"
+        if re.search(r"InvalidAuthToken|AuthenticationError|Unauthenticated", proc.stderr):
+            reason += f" (the cluster refused our authentication token; {_AUTH_HINT})"
+        raise ValueError(f"could not join the Ray cluster at {address}: {reason}")
 
 
 def _one_line(text: object) -> str:

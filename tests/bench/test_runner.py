@@ -159,6 +159,26 @@ def test_a_ray_cluster_that_does_not_answer_is_one_line_before_any_work(tmp_path
     assert "\n" not in str(exc.value)
 
 
+def test_a_ray_cluster_that_never_answers_is_one_line_after_the_deadline(tmp_path, no_demonstrations, monkeypatch):
+    """A listener that accepts connections and says nothing: the client would wait (or, with a
+    wrong token, retry) for ever; the check gives up after its deadline with one line."""
+    pytest.importorskip("ray")
+    import socket
+
+    from ioc_bench.bench import ray_executor
+
+    monkeypatch.setattr(ray_executor, "CONNECT_TIMEOUT", 4.0)
+    with socket.socket() as silent:
+        silent.bind(("127.0.0.1", 0))
+        silent.listen(16)
+        address = f"127.0.0.1:{silent.getsockname()[1]}"
+        spec = CaseSpec("log-barrier", "nominal", "ideal", 0)
+        expected = r"could not join the Ray cluster at .* within 4 s; .*RAY_AUTH_TOKEN"
+        with pytest.raises(ValueError, match=expected) as exc:
+            run_cases([spec], tmp_path, executor="ray", address=address)
+    assert "\n" not in str(exc.value)
+
+
 def test_executors_are_looked_up_by_name():
     assert set(EXECUTORS) == {"local", "ray"}
     assert type(get_executor("local", workers=2)).__name__ == "ProcessPool"
