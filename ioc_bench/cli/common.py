@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -32,44 +34,48 @@ def positive_float(text: str) -> float:
 
 
 def positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
-    return value
+    """An argparse type: an integer >= 1 (counts: workers, starts, repeats)."""
+    return _int_at_least(text, 1)
 
 
 def seed_int(text: str) -> int:
     """An argparse type: a seed, a non-negative integer (what NumPy's generators accept)."""
+    return _int_at_least(text, 0)
+
+
+def _int_at_least(text: str, minimum: int) -> int:
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text!r}")
     return value
+
+
+@contextlib.contextmanager
+def usage_errors(prefix: str = "") -> Iterator[None]:
+    """Turn a ``ValueError`` (the library's bad-input error) into a one-line :class:`UsageError`."""
+    try:
+        yield
+    except ValueError as exc:
+        raise UsageError(prefix + " ".join(str(exc).split())) from None
 
 
 def output_file(path: Path, what: str = "--out") -> Path:
     """``path`` if a file can be written there, else :class:`UsageError` (checked before the work)."""
     from ioc_bench.fileio import check_output_file
 
-    try:
+    with usage_errors(f"{what}: "):
         return check_output_file(path)
-    except ValueError as exc:
-        raise UsageError(f"{what}: {exc}") from None
 
 
 def output_dir(path: Path, what: str = "--out") -> Path:
     """``path`` if it is or can be made a writable directory, else :class:`UsageError`."""
     from ioc_bench.fileio import check_output_dir
 
-    try:
+    with usage_errors(f"{what}: "):
         return check_output_dir(path)
-    except ValueError as exc:
-        raise UsageError(f"{what}: {exc}") from None
 
 
 def json_object(text: str) -> dict:

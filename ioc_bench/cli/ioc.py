@@ -13,6 +13,7 @@ from ioc_bench.cli.common import (
     output_file,
     print_json,
     seed_int,
+    usage_errors,
     weights_arg,
 )
 
@@ -37,11 +38,9 @@ def run(args: argparse.Namespace) -> int:
     from ioc_bench.ioc.registry import make_algorithm
     from ioc_bench.viz.convergence import plot_convergence
 
-    try:
+    with usage_errors():
         condition = get_condition(args.condition)
         make_algorithm(args.algorithm, **args.config)  # the name and every config field
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
     if args.out.suffix == ".png":
         raise UsageError(f"--out {args.out} names the JSON result; its plot is written beside it as .png")
     output_file(args.out)

@@ -12,7 +12,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, positive_int, print_json
+from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, positive_int, print_json, usage_errors
 
 #: MuJoCo models a demonstration can be replayed against.
 MODELS = ("demo", "nominal")
@@ -36,13 +36,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.demo import Demonstration, DemonstrationFileError
+    from ioc_bench.demo import Demonstration
     from ioc_bench.model.params import WalkerParams
 
-    try:
-        demo = Demonstration.load(args.demo)
-    except DemonstrationFileError as exc:
-        raise UsageError(str(exc)) from None
+    with usage_errors():
+        demo = Demonstration.load(args.demo)  # every problem with the file is a DemonstrationFileError
     out_dir = output_dir(args.out if args.out is not None else args.demo.parent)
     import envs.replay as rp  # lazily: ioc_bench must not need envs (or MuJoCo) to import
 

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
-from ioc_bench.cli.common import UsageError, add_json_flag, json_object, positive_float, positive_int, print_json
+from ioc_bench.cli.common import add_json_flag, json_object, positive_float, positive_int, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -46,13 +46,11 @@ def run(args: argparse.Namespace) -> int:
             n = len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds)
             print(f"{suite.name:<14} {n:3d} cases  {suite.description}")
         return 0
-    try:
+    with usage_errors():
         specs = get_suite(args.suite).cases(args.algorithm, args.config)
         plan = plan_run(
             specs, args.out, args.workers, args.time_limit, args.executor, args.address, keep_failed=args.keep_failed
         )
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
     say = (lambda msg: print(msg, file=sys.stderr)) if not args.json else (lambda msg: None)
     say(f"suite {args.suite}: {len(specs)} cases of {args.algorithm} -> {args.out}/")
     failures = [0]
