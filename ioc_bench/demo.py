@@ -9,13 +9,17 @@ array's shape and names the first problem found.
 from __future__ import annotations
 
 import json
+import math
 import os
+import typing
 import zipfile
 from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from ioc_bench.checks import TypeMismatch, coerce
 from ioc_bench.features import COST_FEATURES, model_features
 from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import get_model
@@ -104,58 +108,159 @@ class Demonstration:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Demonstration:
-        """Read a demonstration; raises :class:`DemonstrationFileError` naming the problem."""
+        """Read a demonstration written by :meth:`save`.
+
+        Raises:
+            DemonstrationFileError: for every way the file can be missing, unreadable or
+                malformed (a message naming the file and the first problem found).
+        """
         path = Path(path)
+        if path.is_dir():
+            raise DemonstrationFileError(f"{path} is a directory, not a demonstration file")
         if not path.is_file():
             raise DemonstrationFileError(f"demonstration file not found: {path}")
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                arrays = {k: data[k] for k in data.files}
-        except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-            raise DemonstrationFileError(f"{path} is not a readable .npz demonstration ({exc})") from None
+        arrays = _read_arrays(path)
         try:
             return cls._from_arrays(arrays)
-        except (KeyError, TypeError, ValueError) as exc:
-            raise DemonstrationFileError(f"{path} is not a valid demonstration: {exc}") from None
+        except (KeyError, TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
+            raise DemonstrationFileError(f"{path} is not a valid demonstration: {_one_line(exc)}") from None
 
     @classmethod
     def _from_arrays(cls, arrays: dict[str, np.ndarray]) -> Demonstration:
-        if "meta" not in arrays:
-            raise ValueError("missing 'meta' header")
-        meta = json.loads(str(arrays["meta"]))
-        if meta.get("schema") != SCHEMA_VERSION:
-            raise ValueError(f"schema version {meta.get('schema')!r}, this ioc-bench reads {SCHEMA_VERSION}")
+        meta = _meta(arrays)
         traj_fields = [f.name for f in fields(Trajectory)]
         missing = [n for n in traj_fields if _TRAJ_PREFIX + n not in arrays]
         if missing:
             raise ValueError(f"missing trajectory arrays {missing}")
+        for name in traj_fields:
+            _numeric(arrays[_TRAJ_PREFIX + name], name, ndim=0 if name == "dt" else None)
         traj = Trajectory.from_arrays({n: arrays[_TRAJ_PREFIX + n] for n in traj_fields})
         model = get_model(meta.get("model", "walker"))
-        params = model.params_from_dict(meta["params"])
+        params = model.params_from_dict(_object(meta["params"], "params"))
         _check_shapes(traj, model.linkage(params))
-        ms = meta.get("multistart")
-        summary = None
-        if ms is not None:
-            summary = MultiStartSummary(tuple(StartRecord.from_dict(s) for s in ms["starts"]), int(ms["best"]))
-        features = {k: float(v) for k, v in meta["features"].items()}
-        if set(features) != set(model_features(model)):
-            raise ValueError(f"features {sorted(features)} do not match {list(model_features(model))}")
+        names = model_features(model)
+        features = _numbers(meta["features"], "features")
+        if set(features) != set(names):
+            raise ValueError(f"features {sorted(features)} do not match {list(names)}")
+        weights = _numbers(meta["weights"], "weights")
+        if any(w < 0 for w in weights.values()) or set(weights) - set(names):
+            raise ValueError(f"weights must be non-negative, over {list(names)}: got {weights}")
+        task = meta["task"]
+        if not isinstance(task, dict) or not {"speed"} <= set(task) <= {"speed", "step_length"}:
+            raise ValueError(f"task must be an object with a speed (and a step_length), got {task!r}")
+        n_intervals = meta["n_intervals"]
+        if isinstance(n_intervals, bool) or not isinstance(n_intervals, int) or n_intervals < 0:
+            raise ValueError(f"n_intervals must be a non-negative integer, got {n_intervals!r}")
         gait, check = meta.get("gait"), meta.get("local_minimum")
         return cls(
             trajectory=traj,
-            weights={k: float(v) for k, v in meta["weights"].items()},
+            weights=weights,
             features=features,
             params=params,
-            task=Task(**meta["task"]),
-            solver=SolverReport(**meta["solver"]),
-            multistart=summary,
-            n_intervals=int(meta["n_intervals"]),
-            lam_x=np.asarray(arrays.get("lam_x", np.zeros(0)), dtype=float),
-            lam_g=np.asarray(arrays.get("lam_g", np.zeros(0)), dtype=float),
+            task=Task(**task),
+            solver=_typed(SolverReport, meta["solver"], "solver"),
+            multistart=_multistart(meta.get("multistart")),
+            n_intervals=n_intervals,
+            lam_x=_numeric(arrays.get("lam_x", np.zeros(0)), "lam_x", ndim=1).astype(float),
+            lam_g=_numeric(arrays.get("lam_g", np.zeros(0)), "lam_g", ndim=1).astype(float),
             model=model.name,
-            gait=None if gait is None else GaitFigures.from_dict(gait),
-            local_minimum=None if check is None else LocalMinimumCheck.from_dict(check),
+            gait=None if gait is None else GaitFigures.from_dict(_object(gait, "gait")),
+            local_minimum=None if check is None else LocalMinimumCheck.from_dict(_object(check, "local_minimum")),
         )
+
+
+def _read_arrays(path: Path) -> dict[str, np.ndarray]:
+    """Every array of the ``.npz`` archive at ``path``, or :class:`DemonstrationFileError`."""
+    if not zipfile.is_zipfile(path):
+        raise DemonstrationFileError(f"{path} is not a readable .npz demonstration (not a zip archive)")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except Exception as exc:  # a damaged archive fails in zipfile, zlib or numpy's format reader
+        raise DemonstrationFileError(
+            f"{path} is not a readable .npz demonstration ({type(exc).__name__}: {_one_line(exc)})"
+        ) from None
+    not_arrays = [k for k, v in arrays.items() if not isinstance(v, np.ndarray)]
+    if not_arrays:
+        raise DemonstrationFileError(f"{path} is not a readable .npz demonstration (members {not_arrays} are not .npy)")
+    return arrays
+
+
+def _meta(arrays: dict[str, np.ndarray]) -> dict:
+    if "meta" not in arrays:
+        raise ValueError("missing 'meta' header")
+    raw = arrays["meta"]
+    if raw.shape != () or raw.dtype.kind not in "US":
+        raise ValueError(f"'meta' header must be one JSON string, got a {raw.dtype} array of shape {raw.shape}")
+    try:
+        decoded = json.loads(str(raw))
+    except ValueError as exc:
+        raise ValueError(f"'meta' header is not JSON ({exc})") from None
+    meta = _object(decoded, "'meta' header")
+    if meta.get("schema") != SCHEMA_VERSION:
+        raise ValueError(f"schema version {meta.get('schema')!r}, this ioc-bench reads {SCHEMA_VERSION}")
+    return meta
+
+
+def _object(value: Any, what: str) -> dict:
+    if not isinstance(value, dict):
+        raise ValueError(f"{what} must be a JSON object, got {type(value).__name__}")
+    return value
+
+
+def _numbers(value: Any, what: str) -> dict[str, float]:
+    """A JSON object of finite numbers, as floats."""
+    out = {}
+    for key, v in _object(value, what).items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise ValueError(f"{what}[{key!r}] must be a finite number, got {v!r}")
+        out[key] = float(v)
+    return out
+
+
+def _numeric(arr: np.ndarray, name: str, ndim: int | None = None) -> np.ndarray:
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(f"array {name} must hold numbers, got dtype {arr.dtype}")
+    if (ndim is not None and arr.ndim != ndim) or (ndim is None and arr.ndim == 0):
+        raise ValueError(f"array {name} has shape {arr.shape}")
+    return arr
+
+
+def _typed(cls: type, value: Any, what: str) -> Any:
+    """A dataclass from a JSON object, every field checked against its annotation."""
+    data = _object(value, what)
+    hints = typing.get_type_hints(cls)
+    unknown = set(data) - set(hints)
+    if unknown:
+        raise ValueError(f"{what} has unknown field(s) {sorted(unknown)}")
+    try:
+        return cls(**{k: coerce(v, hints[k], nonfinite=True) for k, v in data.items()})
+    except TypeMismatch as exc:
+        raise ValueError(f"{what} has a field that is not {exc}") from None
+
+
+def _multistart(ms: Any) -> MultiStartSummary | None:
+    if ms is None:
+        return None
+    ms = _object(ms, "multistart")
+    starts = ms.get("starts")
+    if not isinstance(starts, list):
+        raise ValueError("multistart.starts must be a list")
+    records = []
+    for s in starts:
+        s = dict(_object(s, "multistart start"))
+        index, origin = s.pop("index", None), s.pop("origin", None)
+        if isinstance(index, bool) or not isinstance(index, int) or not isinstance(origin, str):
+            raise ValueError("a multistart start needs an integer index and a text origin")
+        records.append(StartRecord(index, origin, _typed(SolverReport, s, "multistart start")))
+    best = ms.get("best")
+    if isinstance(best, bool) or not isinstance(best, int) or not 0 <= best < len(records):
+        raise ValueError(f"multistart.best must index its starts, got {best!r}")
+    return MultiStartSummary(tuple(records), best)
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
 
 
 def _check_shapes(traj: Trajectory, linkage) -> None:

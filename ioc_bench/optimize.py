@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ioc_bench.checks import check_count, check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import evaluate, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
@@ -69,21 +70,24 @@ def optimize_gait(
         The demonstration, whose ``solver`` reports status, violation, iterations and time
         of the chosen solve and whose ``multistart`` summarises every start. If no start is
         feasible it is still returned, with ``solver.success`` False.
+
+    Raises:
+        ValueError: bad input (weights, a ``task`` that is not a :class:`Task`, an ``init``
+            that is not a :class:`Demonstration`, counts below 1, a negative seed), before
+            any solve.
     """
-    params = params or model.default_params
-    task = task or Task()
-    if isinstance(task, (int, float)) or not isinstance(task, Task):
-        raise TypeError(f"task must be a Task, got {task!r} (use Task(speed=...))")
-    features = model_features(model)
-    w = parse_weights(weights, features)
-    if not isinstance(starts, int) or starts < 1:
-        raise ValueError(f"starts must be an integer >= 1, got {starts!r}")
-    if workers is not None and (not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    if init is not None and not isinstance(init, Demonstration):
-        raise TypeError(
-            f"init must be a Demonstration, got {type(init).__name__} (load a file with Demonstration.load)"
-        )
+    params_type = type(model.default_params)
+    params = _instance(params, params_type, "params", f"{params_type.__name__}()") or model.default_params
+    task = _instance(task, Task, "task", "Task(speed=0.27)") or Task()
+    w = parse_weights(weights, model_features(model))
+    starts = check_count(starts, "starts")
+    seed = check_seed(seed)
+    workers = check_count(workers, "workers", optional=True)
+    n_intervals = check_count(n_intervals, "n_intervals")
+    init = _instance(init, Demonstration, "init", "Demonstration.load(path)")
+    guesses = [_instance(g, Demonstration, "each of guesses", "Demonstration.load(path)") for g in guesses]
+    if on_start_done is not None and not callable(on_start_done):
+        raise ValueError(f"on_start_done must be callable, got {on_start_done!r}")
     solver = get_solver(n_intervals, model)
     if init is not None:
         start = StartPoint(solver.decision_vector(init.trajectory), *_duals(init, solver))
@@ -100,6 +104,13 @@ def optimize_gait(
     results = solve_starts(points, params, task, w, n_intervals, workers, progress, rules, model)
     best, summary = pick_best(results, origins)
     return _demonstration(solver, results[best], w, params, task, summary, rules, verify)
+
+
+def _instance(value: object, cls: type, what: str, example: str):
+    """``value`` if it is None or a ``cls``; else a ``ValueError`` showing how to make one."""
+    if value is not None and not isinstance(value, cls):
+        raise ValueError(f"{what} must be a {cls.__name__} (e.g. {example}), got {type(value).__name__} {value!r:.60}")
+    return value
 
 
 def _duals(init: Demonstration, solver: GaitSolver) -> tuple[np.ndarray | None, np.ndarray | None]:

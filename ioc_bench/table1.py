@@ -7,7 +7,7 @@ other sets' optima (cross-seeding) and keeps whichever is cheaper under its own 
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from ioc_bench.demo import Demonstration
@@ -20,37 +20,82 @@ from ioc_bench.weights import WEIGHT_SETS
 PENALISES = {"penalize-hip": "hip", "penalize-knee": "knee", "penalize-dtau": "dtau"}
 
 
+FeatureValues = Mapping[str, Mapping[str, float]]
+
+
 @dataclass(frozen=True)
 class FeatureTable:
     """Optimal demonstrations per weight set and the Table I pattern check."""
 
     demos: dict[str, Demonstration]
 
+    @property
+    def features(self) -> dict[str, dict[str, float]]:
+        return {name: dict(d.features) for name, d in self.demos.items()}
+
     def lowest(self, feature: str) -> str:
         """The weight set whose optimum has the lowest value of ``feature``."""
-        return min(self.demos, key=lambda name: self.demos[name].features[feature])
+        return lowest(self.features, feature)
 
     @property
     def pattern(self) -> dict[str, bool]:
         """For each penalised feature: is it lowest under the set that penalises it?"""
-        return {feature: self.lowest(feature) == name for name, feature in PENALISES.items()}
+        return {feature: verdict == "yes" for feature, verdict in verdicts(self.features).items()}
 
     def markdown(self) -> str:
-        names = list(self.demos)
-        lines = [
-            "| feature | " + " | ".join(names) + " | lowest in its own set |",
-            "|---" * (len(names) + 2) + "|",
-        ]
-        own = {f: n for n, f in PENALISES.items()}
-        for feature in COST_FEATURES:
-            low = self.lowest(feature)
-            cells = [
-                f"**{self.demos[n].features[feature]:.3e}**" if n == low else f"{self.demos[n].features[feature]:.3e}"
-                for n in names
-            ]
-            mark = "yes" if low == own[feature] else f"NO (lowest: {low})"
-            lines.append(f"| phi_{feature} | " + " | ".join(cells) + f" | {mark} |")
-        return "\n".join(lines)
+        return markdown_table(self.features)
+
+
+def lowest(values: FeatureValues, feature: str) -> str:
+    """The weight set (key of ``values``) with the lowest value of ``feature``."""
+    return min(values, key=lambda name: values[name][feature])
+
+
+def verdicts(values: FeatureValues) -> dict[str, str]:
+    """Per penalised feature: ``yes``, ``NO (lowest: <set>)``, or ``n/a (...)`` when it cannot be checked."""
+    names = list(values)
+    out = {}
+    for name, feature in PENALISES.items():
+        if name not in names:
+            out[feature] = f"n/a ({name} absent)"
+        elif len(names) < 2:
+            out[feature] = "n/a (one set only)"
+        else:
+            low = lowest(values, feature)
+            out[feature] = "yes" if low == name else f"NO (lowest: {low})"
+    return out
+
+
+def markdown_table(values: FeatureValues) -> str:
+    """Table I in Markdown: rows the effort features, columns the weight sets of ``values``.
+
+    The lowest value of each row is bold; the last column is :func:`verdicts`.
+    """
+    names = list(values)
+    verdict = verdicts(values)
+    lines = [
+        "| feature | " + " | ".join(names) + " | lowest in its own set |",
+        "|---" * (len(names) + 2) + "|",
+    ]
+    for feature in COST_FEATURES:
+        low = lowest(values, feature)
+        cells = [_cell(values[n][feature], bold=n == low) for n in names]
+        lines.append(f"| phi_{feature} | " + " | ".join(cells) + f" | {verdict.get(feature, '-')} |")
+    return "\n".join(lines)
+
+
+def pattern_summary(values: FeatureValues) -> str:
+    """One line: does the pattern hold, over the features that can be checked?"""
+    checked = [v for v in verdicts(values).values() if not v.startswith("n/a")]
+    if not checked:
+        return "Pattern not checkable: no penalising set with something to compare to."
+    held = sum(v == "yes" for v in checked)
+    word = "holds" if held == len(checked) else "DOES NOT hold"
+    return f"Pattern (each penalised feature lowest in its own set) {word}: {held} of {len(checked)} features."
+
+
+def _cell(value: float, bold: bool) -> str:
+    return f"**{value:.3e}**" if bold else f"{value:.3e}"
 
 
 def feature_table(

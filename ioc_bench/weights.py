@@ -21,15 +21,32 @@ WeightSpec = str | Sequence[float] | Mapping[str, float] | np.ndarray
 
 def normalize(values: Sequence[float]) -> np.ndarray:
     """Validate weights and scale them to unit 2-norm."""
-    arr = np.asarray(values, dtype=float).ravel()
+    arr = _numbers(values)
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"weights must be finite numbers, got {list(values)}")
+        raise ValueError(f"weights must be finite numbers, got {arr.tolist()}")
     if np.any(arr < 0):
-        raise ValueError(f"weights must be non-negative, got {list(values)}")
-    norm = float(np.linalg.norm(arr))
-    if norm == 0:
+        raise ValueError(f"weights must be non-negative, got {arr.tolist()}")
+    if not np.any(arr > 0):
         raise ValueError("weights must not all be zero")
+    with np.errstate(over="ignore", under="ignore"):
+        norm = float(np.linalg.norm(arr))
+    if not np.isfinite(norm) or norm < np.finfo(float).tiny:  # huge or subnormal: scale first
+        arr = arr / arr.max()
+        norm = float(np.linalg.norm(arr))
     return arr / norm
+
+
+def _numbers(values: object) -> np.ndarray:
+    """``values`` as a flat float array; ``ValueError`` for anything but numbers (bools included)."""
+    items = values.tolist() if isinstance(values, np.ndarray) else values
+    if not isinstance(items, (list, tuple)):
+        items = [items]
+    if any(v is None or isinstance(v, (bool, np.bool_)) for v in items):
+        raise ValueError(f"weights must be numbers, got {values!r}")
+    try:
+        return np.asarray(values, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ValueError(f"weights must be numbers, got {values!r}") from None
 
 
 def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> np.ndarray:
@@ -53,13 +70,16 @@ def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> 
         unknown = [k for k in spec if k not in features]
         if unknown:
             raise ValueError(f"weights name unknown feature(s) {unknown}; valid: {', '.join(features)}")
-        values = [float(spec.get(f, 0.0)) for f in features]
+        values = list(_numbers([spec.get(f, 0.0) for f in features]))
     else:
-        values = list(np.asarray(spec, dtype=float).ravel())
+        values = list(_numbers(spec))
     if len(values) == len(COST_FEATURES) and len(features) > len(COST_FEATURES):
         values = list(values) + [0.0] * (len(features) - len(COST_FEATURES))
     if len(values) != len(features):
-        raise ValueError(f"expected {len(features)} weights ({', '.join(features)}), got {len(values)}")
+        counts = f"{len(COST_FEATURES)} weights ({', '.join(COST_FEATURES)})"
+        if len(features) != len(COST_FEATURES):
+            counts += f" or {len(features)} ({', '.join(features)})"
+        raise ValueError(f"expected {counts}, got {len(values)}")
     return normalize(values)
 
 

@@ -21,11 +21,12 @@ from ioc_bench.bench.conditions import Condition, get_condition
 from ioc_bench.bench.demos import demonstration
 from ioc_bench.bench.observe import observe
 from ioc_bench.bench.scoring import trajectory_error, unit, weight_error
+from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution
-from ioc_bench.ioc.registry import make_algorithm
+from ioc_bench.ioc.registry import check_config, make_algorithm
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
 
@@ -128,13 +129,18 @@ def run_case(
         config: overrides of the algorithm's config fields.
         params: the true walker model (default: SPEC section 1).
         demo: the true demonstration, if already at hand (else from the cache, or solved).
+
+    Raises:
+        ValueError: bad input (unknown algorithm, condition or weight set, a bad config,
+            a seed that is not a non-negative integer), before any solve.
     """
     cond = condition if isinstance(condition, Condition) else get_condition(condition)
     true3 = parse_weights(weights)
-    algo = make_algorithm(algorithm, **dict(config or {}))
+    seed = check_seed(seed)
+    algo = make_algorithm(algorithm, **check_config(config))
     params = params or WalkerParams()
     demo = demo or demonstration(true3, params, cond.demo_task())
-    base = _identity(algorithm, weights, cond, seed) | {
+    base = _identity(algorithm, weight_set_label(weights), true3, cond, seed) | {
         "config": algo.config_dict(),
         "demo_features": dict(demo.features),
         "demo_speed": demo.task.speed,
@@ -157,20 +163,32 @@ def run_case(
     return _score(base, result, problem, wall)
 
 
-def failure(algorithm: str, weights: WeightSpec, condition: str, seed: int, reason: str) -> CaseResult:
-    """The record of a case that could not run (e.g. it timed out or its worker died)."""
-    return _failed(_identity(algorithm, weights, get_condition(condition), seed), reason)
+def failure(
+    algorithm: str,
+    weights: WeightSpec,
+    condition: str,
+    seed: int,
+    reason: str,
+    config: Mapping[str, Any] | None = None,
+) -> CaseResult:
+    """The record of a case that could not run (e.g. it timed out or its worker died).
+
+    ``config`` is the algorithm's effective config, recorded as ``run_case`` records it.
+    """
+    cond = get_condition(condition)
+    base = _identity(algorithm, weight_set_label(weights), parse_weights(weights), cond, seed)
+    return _failed(base | {"config": dict(config or {})}, reason)
 
 
-def _identity(algorithm: str, weights: WeightSpec, cond: Condition, seed: int) -> dict[str, Any]:
+def _identity(algorithm: str, label: str, true3: np.ndarray, cond: Condition, seed: int) -> dict[str, Any]:
     """The fields naming a case and its truth, common to every record."""
     return {
         "algorithm": algorithm,
-        "weight_set": weight_set_label(weights),
+        "weight_set": label,
         "condition": cond.name,
         "seed": seed,
         "features": cond.features,
-        "true_weights": tuple(unit(_over(parse_weights(weights), cond.features))),
+        "true_weights": tuple(unit(_over(true3, cond.features))),
     }
 
 

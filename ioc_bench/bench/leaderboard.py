@@ -1,14 +1,20 @@
-"""The leaderboard: algorithm x condition summaries, regenerated from result files only.
+"""The leaderboard: (algorithm, config) x condition summaries, regenerated from result files only.
 
 Never edit the written files by hand: ``ioc-bench leaderboard results/ --out leaderboards/``
 rewrites ``README.md`` (Markdown) and ``leaderboard.json`` from the results. With 3 or more
 seeds per case a 95 % bootstrap confidence interval of the mean weight error is given.
+
+Results of different configs of one algorithm never share a cell: a row is an algorithm
+with one config (its defaults, or ``[cfg <digest>]`` with the fields that differ listed
+in the header). Both files are rendered in full before either is written.
 """
 
 from __future__ import annotations
 
 import datetime
+import hashlib
 import importlib.metadata
+import json
 import os
 import platform
 from collections import defaultdict
@@ -20,7 +26,8 @@ import numpy as np
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import CONDITIONS
-from ioc_bench.fileio import atomic_write_json, atomic_write_text
+from ioc_bench.bench.results import result_config, run_label
+from ioc_bench.fileio import atomic_write_many, json_text
 
 #: Minimum seeds per case for a bootstrap confidence interval.
 MIN_SEEDS_FOR_CI = 3
@@ -37,9 +44,15 @@ PAPER_FINDINGS = {
 
 @dataclass(frozen=True)
 class Cell:
-    """Summary of one algorithm under one condition."""
+    """Summary of one algorithm with one config under one condition.
+
+    ``label`` is the row's name (``algorithm`` or ``algorithm [cfg <digest>]``) and
+    ``config`` the fields of its config that differ from the algorithm's defaults.
+    """
 
     algorithm: str
+    label: str
+    config: dict
     condition: str
     cases: int
     failures: int
@@ -79,13 +92,13 @@ def penalised_is_largest(result: CaseResult) -> bool | None:
 
 
 def summarise(results: Sequence[CaseResult]) -> list[Cell]:
-    """One :class:`Cell` per (algorithm, condition), conditions in catalogue order."""
+    """One :class:`Cell` per (algorithm, config, condition), conditions in catalogue order."""
     groups: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
     for r in results:
-        groups[(r.algorithm, r.condition)].append(r)
+        groups[(run_label(r), r.condition)].append(r)
     order = {c: i for i, c in enumerate(CONDITIONS)}
     cells = []
-    for (algo, cond), rs in sorted(groups.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 99), kv[0][1])):
+    for (label, cond), rs in sorted(groups.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 99), kv[0][1])):
         ok = [r for r in rs if not r.failed]
         seeds_per_case = defaultdict(set)
         for r in rs:
@@ -94,7 +107,9 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
         checks = [c for c in (penalised_is_largest(r) for r in rs) if c is not None]
         cells.append(
             Cell(
-                algorithm=algo,
+                algorithm=rs[0].algorithm,
+                label=label,
+                config=result_config(rs[0]),
                 condition=cond,
                 cases=len(rs),
                 failures=len(rs) - len(ok),
@@ -160,6 +175,8 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         "",
         "**Versions:** " + ", ".join(f"{k} {val}" for k, val in v.items()),
         "",
+        _configs_line(cells),
+        "",
         "| algorithm | condition | cases | weight error | 95 % CI | trajectory error | time (s) | forward solves "
         "| penalised weight largest | failures |",
         "|---|---|---|---|---|---|---|---|---|---|",
@@ -168,7 +185,7 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         ci = "" if c.weight_error_ci is None else f"[{_fmt(c.weight_error_ci[0])}, {_fmt(c.weight_error_ci[1])}]"
         largest = f"{c.largest_recovered}/{c.largest_checked}" if c.largest_checked else "-"
         lines.append(
-            f"| {c.algorithm} | {c.condition} | {c.cases} | {_fmt(c.weight_error)} | {ci} | "
+            f"| {c.label} | {c.condition} | {c.cases} | {_fmt(c.weight_error)} | {ci} | "
             f"{_sci(c.trajectory_error)} | {c.wall_time:.1f} | {c.forward_solves:.1f} | {largest} | {c.failures} |"
         )
     lines += ["", *_paper_comparison(cells), "", *_case_table(results)]
@@ -184,7 +201,7 @@ def _paper_comparison(cells: Sequence[Cell]) -> list[str]:
     ]
     by_algo: dict[str, list[Cell]] = defaultdict(list)
     for c in cells:
-        by_algo[c.algorithm].append(c)
+        by_algo[c.label].append(c)
     for algo, cs in by_algo.items():
         worst = max((c for c in cs if np.isfinite(c.weight_error)), key=lambda c: c.weight_error, default=None)
         for c in cs:
@@ -206,27 +223,54 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     order = {c: i for i, c in enumerate(CONDITIONS)}
-    for r in sorted(results, key=lambda r: (r.algorithm, order.get(r.condition, 99), r.weight_set, r.seed)):
-        w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else r.reason
+    labelled = sorted(
+        ((run_label(r), r) for r in results),
+        key=lambda lr: (lr[0], order.get(lr[1].condition, 99), lr[1].weight_set, lr[1].seed),
+    )
+    for label, r in labelled:
+        w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else _cell_text(r.reason)
         lines.append(
-            f"| {r.algorithm} | {r.weight_set} | {r.condition} | {r.seed} | {r.status} | {w} ({', '.join(r.features)}) "
+            f"| {label} | {r.weight_set} | {r.condition} | {r.seed} | {r.status} | {w} ({', '.join(r.features)}) "
             f"| {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {r.wall_time:.1f} | {r.n_solves} |"
         )
     return lines
 
 
+def _configs_line(cells: Sequence[Cell]) -> str:
+    """The header line saying which config each row used."""
+    configs = {c.label: c.config for c in cells}
+    parts = [
+        f"`{label}`: " + (f"defaults except `{json.dumps(cfg, sort_keys=True)}`" if cfg else "the algorithm's defaults")
+        for label, cfg in configs.items()
+    ]
+    return "**Configs** (a row never mixes configs): " + "; ".join(parts) + "."
+
+
+def _cell_text(text: str) -> str:
+    """``text`` fit for one Markdown table cell (one line, no column separators)."""
+    return " ".join(text.split()).replace("|", "\\|")
+
+
 def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, source: str = "results/") -> list[Path]:
-    """Write ``README.md`` and ``leaderboard.json`` into ``out``; returns their paths."""
+    """Write ``README.md`` and ``leaderboard.json`` into ``out``; returns their paths.
+
+    Both are rendered before either is written, and written with
+    :func:`~ioc_bench.fileio.atomic_write_many`: an error leaves the old board whole.
+    ``leaderboard.json`` records the SHA-256 of the ``README.md`` written with it.
+    """
     if not results:
         raise ValueError("no case results to summarise")
     out = Path(out)
-    md = atomic_write_text(out / "README.md", markdown(results, source))
+    md = markdown(results, source).encode()
     data = {
         "generated_by": f"ioc-bench leaderboard {source}",
+        "readme_sha256": hashlib.sha256(md).hexdigest(),
         "versions": versions(),
         "seeds": sorted({r.seed for r in results}),
         "cells": [asdict(c) for c in summarise(results)],
-        "cases": [{k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} for r in results],
+        "cases": [
+            {k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} | {"label": run_label(r)}
+            for r in results
+        ],
     }
-    js = atomic_write_json(out / "leaderboard.json", data)
-    return [md, js]
+    return atomic_write_many({out / "README.md": md, out / "leaderboard.json": json_text(data).encode()})

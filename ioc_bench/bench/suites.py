@@ -11,6 +11,7 @@ from typing import Any
 
 from ioc_bench.bench.conditions import CONDITIONS, get_condition, lookup, register
 from ioc_bench.bench.results import CaseSpec
+from ioc_bench.checks import check_seed
 from ioc_bench.weights import WEIGHT_SETS, parse_weights
 
 
@@ -31,9 +32,11 @@ class Suite:
             get_condition(c)
         if not self.seeds:
             raise ValueError(f"suite {self.name!r} needs at least one seed")
+        for seed in self.seeds:
+            check_seed(seed, f"suite {self.name!r} seed")
 
     def cases(self, algorithm: str, config: Mapping[str, Any] | None = None) -> list[CaseSpec]:
-        """The suite's cases for ``algorithm``, in a fixed order."""
+        """The suite's cases for ``algorithm``, in a fixed order (``ValueError`` for a bad name or config)."""
         cfg = dict(config or {})
         return [
             CaseSpec(algorithm, w, c, s, cfg) for s in self.seeds for c in self.conditions for w in self.weight_sets

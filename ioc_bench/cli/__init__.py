@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from ioc_bench.cli.common import UsageError, fail
 
 #: Subcommand modules, in the order ``--help`` lists them.
-COMMANDS: tuple[str, ...] = ("gait", "table1", "bench", "replay", "algorithms", "ioc", "run", "leaderboard", "figures")
+COMMANDS: tuple[str, ...] = ("gait", "table1", "speed", "replay", "algorithms", "ioc", "run", "leaderboard", "figures")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -27,14 +27,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="ioc-bench", description="Inverse optimal control benchmark for bipedal walking.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
-    for name in COMMANDS:
-        try:
-            module = importlib.import_module(f"ioc_bench.cli.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"ioc_bench.cli.{name}":
-                raise
-            continue
-        module.register(sub)
+    for name in COMMANDS:  # a missing or broken command module is a bug: let it raise
+        importlib.import_module(f"ioc_bench.cli.{name}").register(sub)
     return parser
 
 

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
+from collections.abc import Iterator
+from pathlib import Path
 from typing import Any, NoReturn
 
 from ioc_bench.fileio import to_jsonable
@@ -31,13 +34,48 @@ def positive_float(text: str) -> float:
 
 
 def positive_int(text: str) -> int:
+    """An argparse type: an integer >= 1 (counts: workers, starts, repeats)."""
+    return _int_at_least(text, 1)
+
+
+def seed_int(text: str) -> int:
+    """An argparse type: a seed, a non-negative integer (what NumPy's generators accept)."""
+    return _int_at_least(text, 0)
+
+
+def _int_at_least(text: str, minimum: int) -> int:
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {text!r}")
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text!r}")
     return value
+
+
+@contextlib.contextmanager
+def usage_errors(prefix: str = "") -> Iterator[None]:
+    """Turn a ``ValueError`` (the library's bad-input error) into a one-line :class:`UsageError`."""
+    try:
+        yield
+    except ValueError as exc:
+        raise UsageError(prefix + " ".join(str(exc).split())) from None
+
+
+def output_file(path: Path, what: str = "--out") -> Path:
+    """``path`` if a file can be written there, else :class:`UsageError` (checked before the work)."""
+    from ioc_bench.fileio import check_output_file
+
+    with usage_errors(f"{what}: "):
+        return check_output_file(path)
+
+
+def output_dir(path: Path, what: str = "--out") -> Path:
+    """``path`` if it is or can be made a writable directory, else :class:`UsageError`."""
+    from ioc_bench.fileio import check_output_dir
+
+    with usage_errors(f"{what}: "):
+        return check_output_dir(path)
 
 
 def json_object(text: str) -> dict:
@@ -95,5 +133,5 @@ def add_multistart_args(parser: argparse.ArgumentParser, speed_default: float) -
     speed_help = f"average forward speed (default {speed_default:g})"
     parser.add_argument("--speed", type=positive_float, default=speed_default, help=speed_help)
     parser.add_argument("--starts", type=positive_int, default=15, help="multi-start size (default 15)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the start perturbations")
+    parser.add_argument("--seed", type=seed_int, default=0, help="seed of the start perturbations (>= 0)")
     parser.add_argument("--workers", type=positive_int, default=None, help="worker processes (default: all cores)")

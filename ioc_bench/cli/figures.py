@@ -5,12 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, print_json
+from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("figures", help="Table I and Figures 4-6 from benchmark results", description=__doc__)
-    p.add_argument("results", type=Path, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench bench`)")
+    p.add_argument("results", type=Path, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench run`)")
     p.add_argument("--out", type=Path, default=Path("figures"), help="output directory (default figures/)")
     p.add_argument(
         "--algorithm",
@@ -27,10 +27,9 @@ def run(args: argparse.Namespace) -> int:
 
     if not args.results.is_dir():
         raise UsageError(f"results directory not found: {args.results}")
-    try:  # bad input is checked up front, so that errors while drawing stay real errors
-        select_results(args.results, args.algorithm)
-    except ValueError as exc:  # empty directory, unreadable result file, unknown algorithm
-        raise UsageError(" ".join(str(exc).split())) from None
+    with usage_errors():  # checked up front (empty folder, unreadable result, unknown algorithm), so
+        select_results(args.results, args.algorithm)  # that errors while drawing stay real errors
+    output_dir(args.out)
     written = make_figures(args.results, args.out, algorithms=args.algorithm)
     if args.json:
         print_json({name: str(path) for name, path in written.items()})

@@ -8,6 +8,7 @@ from pathlib import Path
 from ioc_bench.cli.common import (
     add_json_flag,
     add_multistart_args,
+    output_file,
     print_json,
     progress_bar,
     solver_dict,
@@ -30,7 +31,9 @@ def run(args: argparse.Namespace) -> int:
     from ioc_bench.optimize import optimize_gait
     from ioc_bench.task import Task
 
-    out = args.out if args.out.suffix == ".npz" else args.out.with_suffix(".npz")
+    out = output_file(args.out if args.out.suffix == ".npz" else args.out.with_suffix(".npz"))
+    if not args.no_plot:
+        output_file(out.with_suffix(".png"), "--out (its plot)")
     with progress_bar(args.starts, "multi-start", enabled=not args.json) as bar:
         demo = optimize_gait(
             args.weights,

@@ -6,7 +6,16 @@ import argparse
 import sys
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, json_object, print_json, weights_arg
+from ioc_bench.cli.common import (
+    UsageError,
+    add_json_flag,
+    json_object,
+    output_file,
+    print_json,
+    seed_int,
+    usage_errors,
+    weights_arg,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -14,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--algorithm", default="log-barrier", help="registered algorithm (see `ioc-bench algorithms`)")
     p.add_argument("--weights", type=weights_arg, default="nominal", help="true weights: set name or hip,knee,dtau")
     p.add_argument("--condition", default="ideal", help="robustness condition (default ideal)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the algorithm and of observation noise")
+    p.add_argument("--seed", type=seed_int, default=0, help="seed of the algorithm and of observation noise (>= 0)")
     config_help = "algorithm config overrides as JSON, e.g. '{\"n_random\": 5}'"
     p.add_argument("--config", type=json_object, default={}, help=config_help)
     p.add_argument("--out", type=Path, default=Path("ioc_result.json"), help="result file (JSON); plot beside it")
@@ -26,23 +35,22 @@ def run(args: argparse.Namespace) -> int:
     from ioc_bench.bench.case import run_case
     from ioc_bench.bench.conditions import get_condition
     from ioc_bench.fileio import atomic_write_json
-    from ioc_bench.ioc.registry import AlgorithmError, get_algorithm
+    from ioc_bench.ioc.registry import make_algorithm
     from ioc_bench.viz.convergence import plot_convergence
 
-    try:
-        get_algorithm(args.algorithm)
+    with usage_errors():
         condition = get_condition(args.condition)
-    except (AlgorithmError, ValueError) as exc:
-        raise UsageError(str(exc)) from None
+        make_algorithm(args.algorithm, **args.config)  # the name and every config field
+    if args.out.suffix == ".png":
+        raise UsageError(f"--out {args.out} names the JSON result; its plot is written beside it as .png")
+    output_file(args.out)
+    output_file(args.out.with_suffix(".png"), "--out (its plot)")
     if not args.json:
         print(
             f"running {args.algorithm} on {args.weights} weights, {condition.name} condition, seed {args.seed}",
             file=sys.stderr,
         )
-    try:
-        result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config)
-    except AlgorithmError as exc:
-        raise UsageError(str(exc)) from None
+    result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config)
     atomic_write_json(args.out, result.to_dict())
     plot = plot_convergence(result, args.out.with_suffix(".png"))
     summary = {
@@ -72,11 +80,14 @@ def run(args: argparse.Namespace) -> int:
 
 def _print(result, summary: dict) -> None:
     for i, h in enumerate(result.history):
-        w = " ".join(f"{x:.4f}" for x in h["weights"])
+        w = " ".join(f"{x:.4f}" for x in h.get("weights", ()))
         mark = "  <- output" if i == result.chosen_iteration else ""
-        cut = "cut" if h["cost_gap"] < 0 else "no cut"
-        gap = f"cost gap {h['cost_gap']:+.2e} ({cut})"
-        print(f"  iter {i:2d}  w = [{w}]  traj. error {h['trajectory_error']:.3g}  {gap}{mark}")
+        gap = ""
+        if isinstance(h.get("cost_gap"), (int, float)):
+            gap = f"  cost gap {h['cost_gap']:+.2e} ({'cut' if h['cost_gap'] < 0 else 'no cut'})"
+        err = h.get("trajectory_error")
+        err_text = f"{err:.3g}" if isinstance(err, (int, float)) else "n/a"
+        print(f"  iter {i:2d}  w = [{w}]  traj. error {err_text}{gap}{mark}")
     names = ", ".join(result.features)
     fmt = lambda v: "[" + ", ".join(f"{x:.4f}" for x in v) + "]"  # noqa: E731
     print(f"status          {result.status}" + (f" ({result.reason})" if result.reason else ""))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, print_json
+from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -18,13 +18,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ioc_bench.bench.leaderboard import summarise, write_leaderboard
-    from ioc_bench.bench.results import load_results
+    from ioc_bench.bench.results import load_results, no_results_message
 
-    try:
+    with usage_errors():
         results = load_results(args.results)
-        paths = write_leaderboard(results, args.out, source=str(args.results))
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    if not results:
+        raise UsageError(no_results_message(args.results))
+    output_dir(args.out)
+    paths = write_leaderboard(results, args.out, source=str(args.results))
     if args.json:
         print_json({"files": [str(p) for p in paths], "cells": [c.__dict__ for c in summarise(results)]})
     else:

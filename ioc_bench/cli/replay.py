@@ -12,7 +12,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.cli.common import UsageError, add_json_flag, positive_int, print_json
+from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, positive_int, print_json, usage_errors
 
 #: MuJoCo models a demonstration can be replayed against.
 MODELS = ("demo", "nominal")
@@ -36,18 +36,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.demo import Demonstration, DemonstrationFileError
+    from ioc_bench.demo import Demonstration
     from ioc_bench.model.params import WalkerParams
 
-    try:
-        demo = Demonstration.load(args.demo)
-    except DemonstrationFileError as exc:
-        raise UsageError(str(exc)) from None
+    with usage_errors():
+        demo = Demonstration.load(args.demo)  # every problem with the file is a DemonstrationFileError
+    out_dir = output_dir(args.out if args.out is not None else args.demo.parent)
     import envs.replay as rp  # lazily: ioc_bench must not need envs (or MuJoCo) to import
 
-    out_dir = args.out if args.out is not None else args.demo.parent
-    if out_dir.exists() and not out_dir.is_dir():
-        raise UsageError(f"--out {out_dir} exists and is not a directory")
     params = demo.params if args.model == "demo" else WalkerParams()
     try:
         report = rp.replay(demo, steps=args.steps, params=params)

@@ -1,7 +1,10 @@
 """``ioc-bench run``: run a benchmark suite (default: smoke, log-barrier) and print its leaderboard.
 
 Finished cases are written one file each, at once and atomically; running the same
-command again resumes, skipping finished cases.
+command again resumes, skipping finished cases. Failed cases (the algorithm failed, the
+case timed out, its worker died) are recorded and shown, and retried by the next run
+unless ``--keep-failed`` is given. Everything (suite, algorithm, config, output folder,
+result files already there, the Ray cluster) is checked before any work.
 """
 
 from __future__ import annotations
@@ -10,7 +13,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, json_object, positive_float, positive_int, print_json
+from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
+from ioc_bench.cli.common import add_json_flag, json_object, positive_float, positive_int, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,9 +24,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=json_object, default={}, help="algorithm config overrides as JSON")
     p.add_argument("--out", type=Path, default=Path("results"), help="results directory (default results/)")
     p.add_argument("--workers", type=positive_int, default=None, help="parallel cases (default: all cores)")
-    p.add_argument("--executor", choices=("local", "ray"), default="local", help="local processes or a Ray cluster")
-    p.add_argument("--address", default=None, help="Ray cluster address (default: start a local Ray)")
-    p.add_argument("--time-limit", type=positive_float, default=1800.0, help="seconds per case (default 1800)")
+    p.add_argument("--executor", choices=tuple(EXECUTORS), default="local", help="local processes or a Ray cluster")
+    p.add_argument("--address", default=None, help="Ray cluster address, e.g. 127.0.0.1:6379 (default: a local Ray)")
+    time_help = f"seconds per case (default {DEFAULT_TIME_LIMIT:g})"
+    p.add_argument("--time-limit", type=positive_float, default=DEFAULT_TIME_LIMIT, help=time_help)
+    p.add_argument("--keep-failed", action="store_true", help="do not retry cases whose stored result is a failure")
     p.add_argument("--list", action="store_true", help="list the suites and exit")
     add_json_flag(p)
     p.set_defaults(run=run)
@@ -30,27 +36,23 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ioc_bench.bench.leaderboard import markdown, summarise
-    from ioc_bench.bench.results import load_results
-    from ioc_bench.bench.runner import run_cases
+    from ioc_bench.bench.results import read_result
+    from ioc_bench.bench.runner import plan_run
     from ioc_bench.bench.suites import SUITES, get_suite
     from ioc_bench.cli.common import progress_bar
-    from ioc_bench.ioc.registry import AlgorithmError, get_algorithm
 
     if args.list:
         for suite in SUITES.values():
             n = len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds)
             print(f"{suite.name:<14} {n:3d} cases  {suite.description}")
         return 0
-    try:
-        suite = get_suite(args.suite)
-        get_algorithm(args.algorithm)
-    except (AlgorithmError, ValueError) as exc:
-        raise UsageError(str(exc)) from None
-    if args.executor == "ray":
-        _require_ray()
-    specs = suite.cases(args.algorithm, args.config)
+    with usage_errors():
+        specs = get_suite(args.suite).cases(args.algorithm, args.config)
+        plan = plan_run(
+            specs, args.out, args.workers, args.time_limit, args.executor, args.address, keep_failed=args.keep_failed
+        )
     say = (lambda msg: print(msg, file=sys.stderr)) if not args.json else (lambda msg: None)
-    say(f"suite {suite.name}: {len(specs)} cases of {args.algorithm} -> {args.out}/")
+    say(f"suite {args.suite}: {len(specs)} cases of {args.algorithm} -> {args.out}/")
     failures = [0]
     with progress_bar(len(specs), "cases", enabled=not args.json) as bar:
 
@@ -63,27 +65,24 @@ def run(args: argparse.Namespace) -> int:
                 bar.write(f"  {spec.key}: {mark}, {result.wall_time:.0f} s", file=sys.stderr)
 
         try:
-            summary = run_cases(
-                specs, args.out, args.workers, args.time_limit, args.executor, args.address, on_case, say
-            )
+            summary = plan.run(on_case, say)
         except KeyboardInterrupt:
             print(
                 f"\ninterrupted; finished cases are in {args.out}/ - rerun the same command to resume", file=sys.stderr
             )
             return 130
-    results = [r for r in load_results(args.out) if r.algorithm == args.algorithm]
-    keys = {(s.weight_set, s.condition, s.seed) for s in specs}
-    results = [r for r in results if (r.weight_set, r.condition, r.seed) in keys]
+    results = [read_result(s.path(args.out)) for s in specs if s.path(args.out).is_file()]
     if args.json:
         print_json({"summary": summary.__dict__, "cells": [c.__dict__ for c in summarise(results)]})
     else:
-        say(f"{summary.ran} run, {summary.skipped} already done, {summary.failed} failed, {summary.wall_time:.0f} s")
+        retried = f" ({summary.retried} of them retried)" if summary.retried else ""
+        say(
+            f"{summary.ran} run{retried}, {summary.skipped} already done, {summary.failed} failed, "
+            f"{summary.wall_time:.0f} s"
+        )
+        stored_failures = sum(r.failed for r in results)
+        if stored_failures:
+            hint = "" if not args.keep_failed else "; rerun without --keep-failed to retry them"
+            say(f"{stored_failures} case(s) failed (listed in the leaderboard below){hint}")
         print(markdown(results, str(args.out)))
     return 0
-
-
-def _require_ray() -> None:
-    try:
-        import ray  # noqa: F401
-    except ImportError:
-        raise UsageError("--executor ray needs Ray: pip install 'ioc-bench[ray]'") from None

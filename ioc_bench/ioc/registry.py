@@ -4,18 +4,33 @@ Third-party packages declare algorithms in the entry-point group ``ioc_bench.alg
 (``name = "package.module:AlgorithmClass"``); they are found without being imported and
 loaded only when asked for. A plugin that fails to import is reported by name and
 skipped; a name that clashes with one already registered is refused with a message.
+Names become folder names of result files, so they are restricted to letters, digits and
+``-._`` (see :data:`NAME_PATTERN`).
+
+Configs are checked here, before any work: :func:`make_algorithm` refuses unknown fields,
+values of the wrong type (against the ``Config`` dataclass's annotations) and values its
+``__post_init__`` rejects, all as one-line :class:`AlgorithmError`. :func:`canonical_config`
+reduces a config to the fields that differ from the defaults, so that configs with the
+same effect have the same identity.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.metadata
+import re
+import typing
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
+from ioc_bench.checks import TypeMismatch, coerce
+from ioc_bench.fileio import to_jsonable
 from ioc_bench.ioc.algorithm import IOCAlgorithm
 
 ENTRY_POINT_GROUP = "ioc_bench.algorithms"
+#: What an algorithm name may look like (it names a folder of result files).
+NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 
 _REGISTRY: dict[str, type[IOCAlgorithm]] = {}
 #: Built-in algorithms, registered by name (not by import side effect, which happens once).
@@ -44,7 +59,17 @@ def register_algorithm(name: str) -> Callable[[type[IOCAlgorithm]], type[IOCAlgo
     return decorate
 
 
+def check_name(name: Any) -> str:
+    """``name`` if it is a valid algorithm name, else :class:`AlgorithmError`."""
+    if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name) or ".." in name:
+        raise AlgorithmError(
+            f"invalid algorithm name {name!r}: use letters, digits and -._ (it names a folder of results)"
+        )
+    return name
+
+
 def _add(name: str, cls: Any, origin: str) -> None:
+    check_name(name)
     if not (isinstance(cls, type) and issubclass(cls, IOCAlgorithm)):
         raise AlgorithmError(f"algorithm {name!r} from {origin} is not an IOCAlgorithm subclass")
     existing = _REGISTRY.get(name)
@@ -97,6 +122,8 @@ def algorithms() -> list[str]:
 
 def get_algorithm(name: str) -> type[IOCAlgorithm]:
     """The algorithm class registered as ``name`` (loading its plugin if needed)."""
+    if not isinstance(name, str):
+        raise AlgorithmError(f"an algorithm name must be a string, got {type(name).__name__}")
     _load_builtins()
     if name not in _REGISTRY:
         for ep in _plugin_entry_points():
@@ -108,12 +135,81 @@ def get_algorithm(name: str) -> type[IOCAlgorithm]:
 
 
 def make_algorithm(name: str, **config: Any) -> IOCAlgorithm:
-    """An instance of algorithm ``name`` with config overrides (unknown fields raise)."""
+    """An instance of algorithm ``name`` with config overrides.
+
+    Raises :class:`AlgorithmError` (a ``ValueError``) for an unknown algorithm, an unknown
+    field, a value of the wrong type or one the config rejects.
+    """
     cls = get_algorithm(name)
+    overrides = _checked_overrides(name, cls, config)
     try:
-        return cls(**config)
-    except TypeError as exc:
-        raise AlgorithmError(f"bad config for algorithm {name!r}: {exc}") from None
+        return cls(**overrides)
+    except (TypeError, ValueError) as exc:
+        raise AlgorithmError(f"bad config for algorithm {name!r}: {_one_line(exc)}") from None
+
+
+def check_config(config: Any) -> dict[str, Any]:
+    """``config`` as a dict if it is a mapping from field names to values, else :class:`AlgorithmError`."""
+    if config is None:
+        return {}
+    if not isinstance(config, Mapping) or not all(isinstance(k, str) for k in config):
+        raise AlgorithmError(
+            f"an algorithm config must be a mapping of field names to values, got {type(config).__name__}"
+        )
+    return dict(config)
+
+
+def canonical_config(name: str, config: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The fields of ``config`` whose effective value differs from the algorithm's default.
+
+    Configs that only spell out defaults, or give ``1`` for a float field that defaults
+    to ``1.0``, reduce to the same dict; values are JSON-ready (tuples become lists).
+    Raises :class:`AlgorithmError` as :func:`make_algorithm` does.
+    """
+    config = check_config(config)
+    effective = make_algorithm(name, **config).config_dict()
+    if not effective:  # not a dataclass config: the overrides are all there is
+        return {k: to_jsonable(v) for k, v in sorted(config.items())}
+    return config_overrides(name, effective)
+
+
+def config_overrides(name: str, effective: Mapping[str, Any]) -> dict[str, Any]:
+    """The fields of an effective (full) config that differ from ``name``'s defaults."""
+    defaults = make_algorithm(name).config_dict()
+    return {k: to_jsonable(v) for k, v in sorted(effective.items()) if to_jsonable(defaults.get(k)) != to_jsonable(v)}
+
+
+def _checked_overrides(name: str, cls: type[IOCAlgorithm], config: Mapping[str, Any]) -> dict[str, Any]:
+    """Overrides checked against the ``Config`` dataclass: known fields, right types.
+
+    Ints are accepted (and converted) for float fields and lists for tuple fields, as JSON
+    gives them; bools are not accepted as numbers.
+    """
+    config = check_config(config)
+    target = cls.Config
+    if not (isinstance(target, type) and dataclasses.is_dataclass(target)):
+        return config
+    fields = [f.name for f in dataclasses.fields(target) if f.init]
+    unknown = [k for k in config if k not in fields]
+    if unknown:
+        raise AlgorithmError(
+            f"bad config for algorithm {name!r}: unknown field(s) {', '.join(unknown)}; fields: {', '.join(fields)}"
+        )
+    try:
+        hints = typing.get_type_hints(target)
+    except Exception:  # unresolvable annotations: leave the values to the config itself
+        return config
+    out = {}
+    for key, value in config.items():
+        try:
+            out[key] = coerce(value, hints.get(key, Any))
+        except TypeMismatch as exc:
+            raise AlgorithmError(f"bad config for algorithm {name!r}: {key} must be {exc}, got {value!r}") from None
+    return out
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
 
 
 def describe_algorithms() -> dict[str, str]:

@@ -16,7 +16,7 @@ def draw_convergence(ax, result, legend: bool = True) -> None:
     ``result`` is a :class:`~ioc_bench.bench.case.CaseResult` (or anything with its fields).
     """
     its = np.arange(len(result.history))
-    weights = np.array([h["weights"] for h in result.history]).reshape(len(its), -1)
+    weights = _weights(result.history, len(result.features))
     for j, feature in enumerate(result.features):
         color = FEATURE_COLORS.get(feature, None)
         if len(its):
@@ -27,13 +27,30 @@ def draw_convergence(ax, result, legend: bool = True) -> None:
     ax.set_ylim(-0.05, 1.05)
     ax.set_xlabel("iteration")
     ax.set_ylabel("weight (unit norm)")
-    err = np.array([h["trajectory_error"] for h in result.history], dtype=float)
+    err = np.array([_number(h.get("trajectory_error")) for h in result.history], dtype=float)
     if np.any(np.isfinite(err) & (err > 0)):
         ax2 = ax.twinx()
         ax2.semilogy(its, err, color="goldenrod", alpha=0.7, lw=2)
         ax2.set_ylabel("trajectory error", color="goldenrod")
-    if legend:
+    if legend and ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7, loc="upper right")
+
+
+def _weights(history, n: int) -> np.ndarray:
+    """(iterations, n) weights per iteration; NaN where a record has no such weights.
+
+    A failed case has no iterations (an empty (0, n) array, drawn as an empty plot).
+    """
+    rows = []
+    for h in history:
+        w = h.get("weights")
+        ok = isinstance(w, (list, tuple)) and len(w) == n
+        rows.append([_number(x) for x in w] if ok else [np.nan] * n)
+    return np.array(rows, dtype=float).reshape(len(rows), n)
+
+
+def _number(x) -> float:
+    return float(x) if isinstance(x, (int, float)) and not isinstance(x, bool) else np.nan
 
 
 def plot_convergence(result, path: str | os.PathLike) -> Path:

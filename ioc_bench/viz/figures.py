@@ -2,7 +2,9 @@
 
 Everything here reads finished :class:`~ioc_bench.bench.case.CaseResult` records and
 never runs an optimization, so the figures of any algorithm (or of several side by side)
-can be remade at will from ``ioc-bench bench`` output:
+can be remade at will from ``ioc-bench run`` output. Results of one algorithm with
+different configs are drawn as different algorithms (``name__cfg<digest>``, as their
+result files are named), never pooled:
 
 - Table I: features of each weight set's demonstration (ideal and ideal-fast speeds).
 - Figure 4: per algorithm, the ideal condition's convergence for every weight set.
@@ -14,8 +16,8 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 from matplotlib.lines import Line2D
@@ -24,10 +26,10 @@ from matplotlib.ticker import MaxNLocator
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import CONDITIONS
-from ioc_bench.bench.results import load_results
+from ioc_bench.bench.results import load_results, no_results_message, run_slug
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 from ioc_bench.fileio import atomic_write_text
-from ioc_bench.table1 import PENALISES, FeatureTable
+from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
 from ioc_bench.viz.convergence import draw_convergence
 from ioc_bench.weights import WEIGHT_SETS
@@ -108,50 +110,13 @@ def _table1_demos(results: Sequence[CaseResult], condition: str) -> dict[str, Ca
 
 def _table1_section(condition: str, demos: dict[str, CaseResult]) -> str:
     """One speed's table (header, rows, and a one-line verdict on the pattern)."""
-    names = list(demos)
+    values = {name: case.demo_features for name, case in demos.items()}
     speed = next(iter(demos.values())).demo_speed
-    table = FeatureTable({n: SimpleNamespace(features=demos[n].demo_features) for n in names})  # type: ignore[arg-type]
-    lines = [
-        f"## Speed {speed:g} ({condition} condition)",
-        "",
-        "| feature | " + " | ".join(names) + " | lowest in its own set |",
-        "|---" * (len(names) + 2) + "|",
-    ]
-    verdicts = []
-    for feature in COST_FEATURES:
-        low = table.lowest(feature)
-        cells = [_cell(demos[n].demo_features[feature], bold=n == low) for n in names]
-        verdict = _own_set_verdict(feature, low, names)
-        verdicts.append(verdict)
-        lines.append(f"| phi_{feature} | " + " | ".join(cells) + f" | {verdict} |")
+    lines = [f"## Speed {speed:g} ({condition} condition)", "", markdown_table(values), "", pattern_summary(values)]
     missing = [n for n in WEIGHT_SETS if n not in demos]
-    lines += ["", _pattern_summary(verdicts)]
     if missing:
         lines.append(f"Weight sets absent from the results: {', '.join(missing)}.")
     return "\n".join(lines)
-
-
-def _cell(value: float, bold: bool) -> str:
-    return f"**{value:.3e}**" if bold else f"{value:.3e}"
-
-
-def _own_set_verdict(feature: str, lowest: str, names: Sequence[str]) -> str:
-    """``yes`` / ``NO (lowest: set)``, or ``n/a`` when the comparison cannot be made."""
-    own = {f: n for n, f in PENALISES.items()}[feature]
-    if own not in names:
-        return f"n/a ({own} absent)"
-    if len(names) < 2:
-        return "n/a (one set only)"
-    return "yes" if lowest == own else f"NO (lowest: {lowest})"
-
-
-def _pattern_summary(verdicts: Sequence[str]) -> str:
-    checked = [v for v in verdicts if not v.startswith("n/a")]
-    if not checked:
-        return "Pattern not checkable: no penalising set with something to compare to."
-    held = sum(v == "yes" for v in checked)
-    word = "holds" if held == len(checked) else "DOES NOT hold"
-    return f"Pattern (each penalised feature lowest in its own set) {word}: {held} of {len(checked)} features."
 
 
 # --------------------------------------------------------------------------- Figures 4 and 5
@@ -443,7 +408,7 @@ def select_results(results_dir: str | os.PathLike, algorithms: Sequence[str] | N
     """
     results = load_results(results_dir)
     if not results:
-        raise ValueError(f"no case results in {results_dir}")
+        raise ValueError(no_results_message(results_dir))
     present = sorted({r.algorithm for r in results})
     unknown = [a for a in algorithms or () if a not in present]
     if unknown:
@@ -461,7 +426,7 @@ def make_figures(
     imperfect-condition cases, and ``figure6``. Raises ``ValueError`` as
     :func:`select_results` does.
     """
-    results = select_results(results_dir, algorithms)
+    results = [replace(r, algorithm=run_slug(r)) for r in select_results(results_dir, algorithms)]
     out = Path(out_dir)
     written = {"table1": write_table1(results, out / "table1.md")}
     for alg in sorted({r.algorithm for r in results}):

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 
 import numpy as np
 import pytest
 
 from ioc_bench.bench.case import failure
-from ioc_bench.bench.leaderboard import penalised_is_largest, summarise, write_leaderboard
+from ioc_bench.bench.leaderboard import markdown, penalised_is_largest, summarise, write_leaderboard
 from ioc_bench.bench.results import CaseSpec, load_results, write_result
 from ioc_bench.cli import main
 
@@ -77,3 +78,48 @@ def test_cli(results_dir, tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:
         main(["leaderboard", str(tmp_path / "missing")])
     assert exc.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_configs_never_share_a_cell_and_the_header_names_each(tmp_path, make_result):
+    """Results of two configs of one algorithm are two rows; one spelling out defaults is the defaults' row."""
+    defaults = make_result("log-barrier", "nominal", "ideal", 0, weight_error=0.1)
+    spelled = make_result("log-barrier", "nominal", "ideal", 1, config={"n_random": 10}, weight_error=0.3)
+    quick = make_result("log-barrier", "nominal", "ideal", 0, config={"n_random": 1, "max_iterations": 2})
+    cells = summarise([defaults, spelled, quick])
+    assert [(c.label, c.cases) for c in cells] == [("log-barrier", 2), ("log-barrier [cfg 05519c9f]", 1)]
+    assert cells[0].weight_error == pytest.approx(0.2) and cells[1].config == {"max_iterations": 2, "n_random": 1}
+    write_result(tmp_path, CaseSpec("log-barrier", "nominal", "ideal", 0), defaults)
+    write_result(tmp_path, CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": 1, "max_iterations": 2}), quick)
+    md = markdown(load_results(tmp_path))
+    assert "`log-barrier`: the algorithm's defaults" in md
+    assert '`log-barrier [cfg 05519c9f]`: defaults except `{"max_iterations": 2, "n_random": 1}`' in md
+    assert "| log-barrier | ideal | 1 |" in md and "| log-barrier [cfg 05519c9f] | ideal | 1 |" in md
+
+
+def test_the_two_files_are_written_together_or_not_at_all(results_dir, tmp_path, monkeypatch):
+    from ioc_bench import fileio
+
+    out = tmp_path / "board"
+    md_path, json_path = write_leaderboard(load_results(results_dir), out)
+    old = (md_path.read_bytes(), json_path.read_bytes())
+    assert json.loads(old[1])["readme_sha256"] == hashlib.sha256(old[0]).hexdigest()
+    real = fileio._stage
+
+    def fail_on_json(path, write, link_final):
+        if path.name == "leaderboard.json":
+            raise OSError("disk full")
+        return real(path, write, link_final)
+
+    monkeypatch.setattr(fileio, "_stage", fail_on_json)
+    with pytest.raises(OSError):
+        write_leaderboard(load_results(results_dir)[:3], out)
+    assert (md_path.read_bytes(), json_path.read_bytes()) == old
+    assert sorted(p.name for p in out.iterdir()) == ["README.md", "leaderboard.json"]
+
+
+def test_a_board_written_into_the_results_is_not_read_back(results_dir, capsys):
+    board = results_dir / "board"
+    for _ in range(2):
+        assert main(["leaderboard", str(results_dir), "--out", str(board), "--json"]) == 0
+        report = json.loads(capsys.readouterr().out)
+        assert sum(c["cases"] for c in report["cells"]) == 13

@@ -72,3 +72,12 @@ def test_ioc_json(capsys, tmp_path, ideal_nominal_cached):
     saved = json.loads(out.read_text())
     assert saved["weight_error"] == report["weight_error"] and len(saved["history"]) == report["iterations"]
     assert out.with_suffix(".png").is_file()
+
+
+def test_solver_timing_is_speed_and_a_missing_command_module_fails_loudly(monkeypatch):
+    from ioc_bench import cli
+
+    assert "speed" in cli.COMMANDS and "bench" not in cli.COMMANDS
+    monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, "no_such_command_module"))
+    with pytest.raises(ModuleNotFoundError, match="no_such_command_module"):
+        cli.build_parser()

@@ -105,6 +105,13 @@ def test_unknown_algorithm_exits_2_listing_those_present(results_dir, tmp_path, 
 
 def test_unreadable_result_file_exits_2(tmp_path, capsys):
     (tmp_path / "res" / "alpha").mkdir(parents=True)
+    (tmp_path / "res" / "alpha" / "nominal__ideal__seed0.json").write_text("{not json")
+    err = _bad_exit(capsys, "figures", str(tmp_path / "res"), "--out", str(tmp_path / "out"))
+    assert "nominal__ideal__seed0.json" in err
+
+
+def test_json_files_not_named_like_results_are_not_read_but_named(tmp_path, capsys):
+    (tmp_path / "res" / "alpha").mkdir(parents=True)
     (tmp_path / "res" / "alpha" / "x.json").write_text("{not json")
     err = _bad_exit(capsys, "figures", str(tmp_path / "res"), "--out", str(tmp_path / "out"))
-    assert "x.json" in err
+    assert "no case results" in err and "alpha/x.json" in err

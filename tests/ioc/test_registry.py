@@ -99,3 +99,41 @@ def test_builtins_survive_their_module_being_imported_elsewhere(monkeypatch):
     without = {k: v for k, v in registry._REGISTRY.items() if k != "analytic-center"}
     monkeypatch.setattr(registry, "_REGISTRY", without)
     assert "analytic-center" in ioc_bench.algorithms()
+
+
+@pytest.mark.parametrize(
+    ("config", "message"),
+    [
+        ({"n_random": -1}, "n_random must be >= 0"),
+        ({"objective": "nope"}, "objective must be one of"),
+        ({"nope": 1}, r"unknown field\(s\) nope; fields: n_random"),
+        ({"n_random": 1.5}, "n_random must be an integer, got 1.5"),
+        ({"n_random": True}, "n_random must be an integer, got True"),
+        ({"scale_features": "no"}, "scale_features must be true or false"),
+        ({"proximal": [1, "x"]}, "proximal must be a list of finite numbers"),
+        ({"perturbation": float("nan")}, "perturbation must be a finite number"),
+    ],
+)
+def test_configs_are_checked_against_their_types_and_rules(config, message):
+    with pytest.raises(registry.AlgorithmError, match=message) as exc:
+        ioc_bench.make_algorithm("log-barrier", **config)
+    assert "\n" not in str(exc.value)
+
+
+def test_json_forms_are_accepted_and_converted():
+    algo = ioc_bench.make_algorithm("log-barrier", proximal=[1, 2], perturbation=1)
+    assert algo.config.proximal == (1.0, 2.0) and isinstance(algo.config.perturbation, float)
+
+
+def test_canonical_config_keeps_only_what_differs_from_the_defaults():
+    assert registry.canonical_config("analytic-center", {"n_random": 0, "proximal": [30, 300.0]}) == {}
+    assert registry.canonical_config("log-barrier", {"offset": 1.5, "n_random": 2}) == {"n_random": 2}
+    assert registry.canonical_config("log-barrier", None) == {}
+    with pytest.raises(registry.AlgorithmError, match="must be a mapping"):
+        registry.canonical_config("log-barrier", [1, 2])
+
+
+@pytest.mark.parametrize("name", ["../x", "a/b", ".hidden", "", "x" * 101, "a b", "..", "a..b"])
+def test_names_that_cannot_be_folder_names_are_refused(clean_registry, name):
+    with pytest.raises(registry.AlgorithmError, match="invalid algorithm name"):
+        ioc_bench.register_algorithm(name)(type("Named", (_Fixed,), {}))

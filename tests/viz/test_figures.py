@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -240,3 +241,18 @@ def test_figure6_marks_a_condition_where_every_case_failed(saved, tmp_path):
     results = [make_case("alpha", "nominal", "ideal"), make_case("alpha", "nominal", "mass", status="failed")]
     figures.plot_figure6(results, tmp_path / "f6.png")
     assert any(t.get_text() == "all failed" for t in saved[0].axes[0].texts)
+
+
+def test_two_configs_of_one_algorithm_are_drawn_apart(tmp_path):
+    quick = {"n_random": 1, "max_iterations": 2}
+    cases = [
+        (CaseSpec("log-barrier", "nominal", "ideal", 0), make_case("log-barrier", "nominal", "ideal")),
+        (
+            CaseSpec("log-barrier", "nominal", "ideal", 0, quick),
+            dataclasses.replace(make_case("log-barrier", "nominal", "ideal", weight_error=0.5), config=quick),
+        ),
+    ]
+    for spec, case in cases:
+        write_result(tmp_path / "res", spec, case)
+    written = figures.make_figures(tmp_path / "res", tmp_path / "figs")
+    assert {"figure4_log-barrier", "figure4_log-barrier__cfg05519c9f"} <= set(written)

@@ -1,4 +1,4 @@
-"""``ioc-bench bench``: median solve times (cold, warm-started, 15-start) on this machine."""
+"""``ioc-bench speed``: median solve times of the trajectory optimizer (cold, warm-started, 15-start) here."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ TARGETS = {"cold_median_s": 2.0, "warm_median_s": 0.5, "multistart_median_s": 15
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("bench", help="benchmark the trajectory optimizer (prints medians)", description=__doc__)
+    p = sub.add_parser("speed", help="time the trajectory optimizer (prints medians)", description=__doc__)
     p.add_argument("--repeats", type=positive_int, default=7, help="cold and warm solves to time (default 7)")
     p.add_argument("--multistart-repeats", type=positive_int, default=3, help="15-start solves to time (default 3)")
     add_json_flag(p)
@@ -21,13 +21,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.benchmark import run_benchmark
+    from ioc_bench.speed import time_solver
 
     def say(msg: str) -> None:
         if not args.json:
             print(f"  {msg}", file=sys.stderr)
 
-    result = run_benchmark(args.repeats, args.multistart_repeats, on_progress=say).to_dict()
+    result = time_solver(args.repeats, args.multistart_repeats, on_progress=say).to_dict()
     result["cores"] = os.cpu_count()
     if args.json:
         print_json(result)

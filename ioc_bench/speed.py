@@ -1,4 +1,6 @@
-"""Solver speed benchmark: medians of cold, warm and multi-start solves on this machine.
+"""Solver speed (``ioc-bench speed``): medians of cold, warm and multi-start solves on this machine.
+
+This times the trajectory optimizer only; the IOC benchmark itself is :mod:`ioc_bench.bench`.
 
 - cold: one solve from a perturbed rough guess (a different start each repeat);
 - warm: from the nominal optimum's primal-dual point, re-solve for weights perturbed by
@@ -30,7 +32,7 @@ WARM_WEIGHT_NOISE = 0.1
 
 
 @dataclass(frozen=True)
-class BenchResult:
+class SpeedResult:
     n_intervals: int
     build_s: float
     cold_median_s: float
@@ -46,12 +48,12 @@ class BenchResult:
         return asdict(self)
 
 
-def run_benchmark(
+def time_solver(
     repeats: int = 7,
     multistart_repeats: int = 3,
     n_intervals: int = DEFAULT_INTERVALS,
     on_progress: Callable[[str], None] | None = None,
-) -> BenchResult:
+) -> SpeedResult:
     """Time the three kinds of solve; see the module docstring."""
     say = on_progress or (lambda _msg: None)
     params, task = WalkerParams(), Task()
@@ -80,7 +82,7 @@ def run_benchmark(
         multi.append(time.perf_counter() - t0)
         say(f"multistart {i + 1}/{multistart_repeats}")
     failures = sum(not r.report.success for r in cold + warm)
-    return BenchResult(
+    return SpeedResult(
         n_intervals=n_intervals,
         build_s=build,
         cold_median_s=statistics.median(r.report.wall_time for r in cold),

@@ -1,0 +1,117 @@
+"""The ``local`` executor: one forked worker process per case on this machine.
+
+The parent builds the trajectory solver before forking, so workers start at once. Each
+worker runs one case and sends its result back through a pipe; the parent (the runner)
+writes it. A worker that dies without reporting becomes a failed result with its exit
+code; workers die with the parent (Linux), so a killed run leaves no orphaned cases.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import itertools
+import multiprocessing as mp
+import os
+import signal
+import sys
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+
+from ioc_bench.bench.case import CaseResult
+from ioc_bench.bench.executor import Job, execute, failure_of
+from ioc_bench.checks import check_count
+from ioc_bench.trajopt.solver import get_solver
+
+
+@dataclass
+class _Worker:
+    job: Job
+    process: mp.Process
+    conn: Connection
+
+
+class ProcessPool:
+    """Forked worker processes, at most ``workers`` at a time (default: all cores)."""
+
+    def __init__(self, workers: int | None = None, address: str | None = None):
+        if address is not None:
+            raise ValueError("--address is for the ray executor; the local executor runs on this machine")
+        self.workers = check_count(workers, "workers", optional=True) or os.cpu_count() or 1
+        self._running: dict[int, _Worker] = {}
+        self._ids = itertools.count()
+        self._ctx: mp.context.BaseContext | None = None
+
+    def check(self) -> None:
+        """Nothing to check: this machine can always fork."""
+
+    def start(self) -> int:
+        get_solver()  # built once here, inherited by every forked worker
+        self._ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+        return self.workers
+
+    def submit(self, job: Job) -> int:
+        assert self._ctx is not None, "start() first"
+        parent, child = self._ctx.Pipe(duplex=False)
+        process = self._ctx.Process(target=_work, args=(child, job), daemon=True)
+        process.start()
+        child.close()
+        handle = next(self._ids)
+        self._running[handle] = _Worker(job, process, parent)
+        return handle
+
+    def poll(self, timeout: float) -> list[tuple[int, CaseResult]]:
+        workers = list(self._running.values())
+        wait([w.conn for w in workers] + [w.process.sentinel for w in workers], timeout=timeout)
+        done = []
+        for handle, worker in list(self._running.items()):
+            result = _collect(worker)
+            if result is not None:
+                del self._running[handle]
+                done.append((handle, result))
+        return done
+
+    def cancel(self, handle: int) -> None:
+        worker = self._running.pop(handle, None)
+        if worker is not None:
+            worker.process.kill()
+            worker.process.join()
+            worker.conn.close()
+
+    def stop(self) -> None:
+        for handle in list(self._running):
+            self.cancel(handle)
+
+
+def _work(conn: Connection, job: Job) -> None:
+    _die_with_parent()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent decides what to do on Ctrl-C
+    with contextlib.suppress(BrokenPipeError):
+        conn.send(execute(job).to_dict())
+    conn.close()
+
+
+def _die_with_parent() -> None:
+    """Ask Linux to kill this worker if the parent dies (no orphaned cases)."""
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL("libc.so.6").prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+
+
+def _collect(worker: _Worker) -> CaseResult | None:
+    """The worker's result if it reported or died, else None (still running)."""
+    if worker.conn.poll():
+        try:
+            data = worker.conn.recv()
+        except (EOFError, OSError):
+            data = None
+        worker.process.join()
+        worker.conn.close()
+        if data is not None:
+            return CaseResult.from_dict(data)
+        return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
+    if not worker.process.is_alive():
+        worker.process.join()
+        worker.conn.close()
+        return failure_of(worker.job.spec, f"worker died (exit code {worker.process.exitcode})")
+    return None

@@ -1,0 +1,208 @@
+"""Result files: a case's identity (with its canonical config), the one-error reader, the directory."""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import json
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from ioc_bench.bench.case import CaseResult
+from ioc_bench.bench.leaderboard import markdown, summarise
+from ioc_bench.bench.results import (
+    CaseSpec,
+    ResultFileError,
+    load_results,
+    parse_result,
+    read_result,
+    result_files,
+    results_directory,
+    write_result,
+)
+from ioc_bench.ioc.registry import AlgorithmError
+
+# -- identity ------------------------------------------------------------------------------
+
+
+def test_a_config_spelling_out_defaults_is_the_same_case():
+    plain = CaseSpec("analytic-center", "nominal", "ideal", 0)
+    spelled = CaseSpec("analytic-center", "nominal", "ideal", 0, {"n_random": 0, "proximal": [30, 300]})
+    assert spelled.config == {} and spelled.key == plain.key == "analytic-center/nominal__ideal__seed0"
+
+
+def test_configs_with_the_same_effect_share_a_key_and_different_ones_do_not():
+    a = CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": 1, "perturbation": 1})
+    b = CaseSpec("log-barrier", "nominal", "ideal", 0, {"perturbation": 1.0, "n_random": 1, "offset": 1.5})
+    c = CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": 2})
+    assert a.key == b.key != c.key and a.config == {"n_random": 1, "perturbation": 1.0}
+    assert a.key.startswith("log-barrier/nominal__ideal__seed0__cfg")
+
+
+@pytest.mark.parametrize(
+    ("fields", "message"),
+    [
+        (("../x", "nominal", "ideal", 0), "invalid algorithm name"),
+        (("a/b", "nominal", "ideal", 0), "invalid algorithm name"),
+        (("log-barrier", "nominal", "ideal", -1), "non-negative integer"),
+        (("log-barrier", "nominal", "ideal", True), "non-negative integer"),
+        (("log-barrier", "nope", "ideal", 0), "unknown weight set"),
+        (("log-barrier", "nominal", "nope", 0), "unknown condition"),
+        (("log-barrier", "nominal", "ideal", 0, {"nope": 1}), "unknown field"),
+        (("log-barrier", "nominal", "ideal", 0, [1, 2]), "must be a mapping"),
+        (("no-such-algo", "nominal", "ideal", 0, {"n_random": 1}), "unknown algorithm"),
+    ],
+)
+def test_a_bad_case_is_refused_when_made(fields, message):
+    with pytest.raises(ValueError, match=message):
+        CaseSpec(*fields)
+
+
+# -- the reader: one error type --------------------------------------------------------------
+
+
+def test_round_trip_through_a_file(tmp_path, make_result):
+    result = make_result(config={"n_random": 1})
+    spec = CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": 1})
+    path = write_result(tmp_path, spec, result)
+    assert read_result(path) == result and load_results(tmp_path) == [result]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("null", "expected a JSON object, got null"),
+        ("[1, 2]", "expected a JSON object, got list"),
+        ("{not json", "not JSON"),
+        ("", "not JSON"),
+    ],
+)
+def test_malformed_files_raise_result_file_error_naming_the_file(tmp_path, text, message):
+    path = tmp_path / "x.json"
+    path.write_text(text)
+    with pytest.raises(ResultFileError, match=message) as exc:
+        read_result(path)
+    assert str(path) in str(exc.value) and "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"wall_time": "fast"}, "wall_time must be a number"),
+        ({"seed": "0"}, "seed must be an integer"),
+        ({"seed": -3}, "seed must be >= 0"),
+        ({"weights": [0.5, 0.5]}, "weights has 2 entries for 3 features"),
+        ({"features": "hip"}, "features must be a list of strings"),
+        ({"history": [1, 2]}, "history must be a list of objects"),
+        ({"surprise": 1}, "unknown field"),
+        ({"n_solves": True}, "n_solves must be an integer"),
+    ],
+)
+def test_wrongly_typed_fields_are_named(tmp_path, change, message, make_result):
+    data = make_result().to_dict() | change
+    path = tmp_path / "x.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(ResultFileError, match=message):
+        read_result(path)
+
+
+def test_missing_fields_are_named(make_result):
+    data = make_result().to_dict()
+    del data["status"], data["seed"]
+    with pytest.raises(ValueError, match=r"missing field\(s\) seed, status"):
+        parse_result(data)
+
+
+_json = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=8),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4),
+    max_leaves=12,
+)
+_FIELDS = [f.name for f in dataclasses.fields(CaseResult)]
+
+
+@given(data=_json)
+def test_property_any_json_value_is_a_result_or_a_value_error(data):
+    try:
+        result = parse_result(data)
+    except ValueError:
+        return
+    assert isinstance(result, CaseResult)  # pragma: no cover - random JSON is never a result
+
+
+@given(
+    failed=st.booleans(),
+    field=st.sampled_from([*_FIELDS, "extra"]),
+    value=_json,
+    drop=st.booleans(),
+)
+def test_property_one_field_changed_reads_or_raises_and_summarises(make_result, failed, field, value, drop):
+    """Reading gives a ``CaseResult`` or ``ValueError``; what reads back, the leaderboard can show."""
+    data = make_result(failed=failed).to_dict()
+    if drop:
+        data.pop(field, None)
+    else:
+        data[field] = value
+    try:
+        result = parse_result(json.loads(json.dumps(data)))
+    except ValueError:
+        return
+    assert isinstance(result, CaseResult)
+    assert len(result.weights) == len(result.features) == len(result.true_weights)
+    summarise([result])
+    markdown([result])
+
+
+@given(raw=st.binary(max_size=200))
+def test_property_any_bytes_read_as_a_result_or_result_file_error(tmp_path_factory, raw):
+    path = tmp_path_factory.mktemp("raw") / "nominal__ideal__seed0.json"
+    path.write_bytes(raw)
+    with contextlib.suppress(ResultFileError):  # anything else fails the test
+        read_result(path)
+
+
+# -- the directory ---------------------------------------------------------------------------
+
+
+def test_only_files_named_like_results_are_read(tmp_path, make_result):
+    spec = CaseSpec("log-barrier", "nominal", "ideal", 0)
+    write_result(tmp_path, spec, make_result())
+    (tmp_path / "board").mkdir()
+    (tmp_path / "board" / "leaderboard.json").write_text("{}")  # a leaderboard written into the results
+    (tmp_path / "log-barrier" / "notes.json").write_text("[]")
+    (tmp_path / "log-barrier" / ".nominal__ideal__seed0.json.abc123.tmp").write_text("{")  # a killed writer
+    (tmp_path / "top.json").write_text("null")
+    assert [p.name for p in result_files(tmp_path)] == ["nominal__ideal__seed0.json"]
+    assert len(load_results(tmp_path)) == 1
+
+
+def test_missing_directory_is_a_result_file_error(tmp_path):
+    with pytest.raises(ResultFileError, match="not found"):
+        load_results(tmp_path / "nope")
+
+
+def test_holding_a_directory_locks_it_and_removes_temporaries(tmp_path):
+    (tmp_path / "log-barrier").mkdir()
+    temporary = tmp_path / "log-barrier" / ".nominal__ideal__seed0.json.abc123.tmp"
+    temporary.write_text("{")
+    with results_directory(tmp_path):
+        assert not temporary.exists()
+        with pytest.raises(ResultFileError, match="another run is writing"), results_directory(tmp_path):
+            pass  # pragma: no cover
+    with results_directory(tmp_path):  # released
+        pass
+
+
+def test_nan_survives_a_round_trip(tmp_path, make_result):
+    result = make_result(failed=True)
+    path = write_result(tmp_path, CaseSpec("log-barrier", "nominal", "ideal", 0), result)
+    again = read_result(path)
+    assert math.isnan(again.weight_error) and all(math.isnan(w) for w in again.weights)
+
+
+def test_config_errors_are_algorithm_errors():
+    with pytest.raises(AlgorithmError):
+        CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": -1})
