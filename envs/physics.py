@@ -11,10 +11,16 @@ import numpy as np
 from ioc_bench.model.mjcf import ContactSettings, walker_mjcf
 from ioc_bench.model.params import WalkerParams
 
+#: The environment's physics: the generated model's contact settings and RK4 steps of 0.0005.
+DEFAULT_CONTACT = ContactSettings()
+
 
 def build_model(params: WalkerParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
-    """The compiled MuJoCo model of the walker for ``params`` (default: SPEC section 1)."""
-    return mujoco.MjModel.from_xml_string(walker_mjcf(params, contact))
+    """The compiled MuJoCo model of the walker for ``params`` (default: SPEC section 1).
+
+    ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
+    """
+    return mujoco.MjModel.from_xml_string(walker_mjcf(params, contact or DEFAULT_CONTACT))
 
 
 def aligned_timestep(model: mujoco.MjModel, period: float) -> int:
