@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import mujoco
@@ -21,16 +20,6 @@ def build_model(params: WalkerParams | None = None, contact: ContactSettings | N
     ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
     """
     return mujoco.MjModel.from_xml_string(walker_mjcf(params, contact or DEFAULT_CONTACT))
-
-
-def aligned_timestep(model: mujoco.MjModel, period: float) -> int:
-    """Set ``model``'s timestep to divide ``period`` exactly, no larger than it was.
-
-    Returns the number of physics steps per ``period``, so a replay lands on every knot.
-    """
-    n = max(1, math.ceil(period / model.opt.timestep - 1e-9))
-    model.opt.timestep = period / n
-    return n
 
 
 def foot_in_contact(model: mujoco.MjModel, data: mujoco.MjData, leg: str) -> bool:
