@@ -45,8 +45,10 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     cost features the demonstrations minimise, so an optimal demonstration is a good
     policy and an IRL method can be scored on the weights.
 
-    Physics: MuJoCo RK4 steps of 0.0005, 20 per action, so `dt` = 0.01; soft point-foot
-    contact with friction and the knee limit as the passive knee-lock (`ioc_bench.model.mjcf`).
+    Physics: MuJoCo RK4 steps of 0.002 (as Walker2d-v5), 5 per action, so `dt` = 0.01;
+    soft point-foot contact with friction and the knee limit as the passive knee-lock
+    (`ioc_bench.model.mjcf`). The step size was measured against 0.0005 (`ContactSettings`'
+    default): docs/environment.md.
 
     Legs are physical (`a`, `b`); a demonstration's stance leg is leg `a` after a reset
     from it. `envs.TrackingPolicy(demonstration)` turns a demonstration into actions
@@ -164,13 +166,13 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     | `demonstration`            | `Demonstration`, path or None | `None` | start every episode from its knot 0     |
     | `forward_reward_weight`    | `float`           | `1.0`         | weight of *reward_forward*                   |
     | `cost_scale`               | `float`           | `1.0`         | multiplies every cost term                   |
-    | `frame_skip`               | `int`             | `20`          | physics steps per action (dt = 0.01)         |
+    | `frame_skip`               | `int`             | `5`           | physics steps per action (dt = 0.01)         |
     | `healthy_z_range`          | `tuple`           | `(0.6, 2.0)`  | hip heights that count as standing           |
     | `healthy_angle_range`      | `tuple`           | `(-1.0, 1.0)` | torso angles that count as standing          |
     | `terminate_when_unhealthy` | `bool`            | `True`        | end the episode on a fall                    |
     | `reset_noise_scale`        | `float`           | `5e-3`        | noise of the standing start                  |
     | `exclude_current_positions_from_observation` | `bool` | `True` | leave the hip's x out of the observation   |
-    | `contact`                  | `ContactSettings` | default       | MuJoCo contact settings and physics timestep |
+    | `contact`                  | `ContactSettings` | timestep 0.002 | MuJoCo contact settings and physics timestep |
     | `render_mode`              | `str`             | `None`        | `"rgb_array"` or None                        |
     | `width`, `height`          | `int`             | `480`, `360`  | image size in pixels                         |
     | `renderer`                 | `str`             | `"auto"`      | `"mujoco"`, `"stick"` or `"auto"`, see below |
@@ -186,8 +188,10 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     figure's: see docs/environment.md.
 
     ## Version History
-    * v1: observations no longer clipped (velocities were clipped at +-10 and angles at
-      +-pi) and extended by the previous torque (17 entries); NaN or infinite actions raise;
+    * v1: physics steps of 0.002 with `frame_skip` 5 (v0: 0.0005 and 20; `dt` is still
+      0.01), about 2.5x the steps per second; observations no longer clipped (velocities
+      were clipped at +-10 and angles at +-pi) and extended by the previous torque (17
+      entries); NaN or infinite actions raise;
       `info` reports the stance leg and heel strikes; `get_state`/`set_state`/
       `state_vector`/`init_qpos`, and pickling and `deepcopy` keep the state; the
       `demonstration` argument (vector autoreset); `weights=None` follows the
@@ -205,7 +209,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         demonstration: DemonstrationSpec | None = None,
         forward_reward_weight: float = 1.0,
         cost_scale: float = 1.0,
-        frame_skip: int = 20,
+        frame_skip: int = 5,
         healthy_z_range: tuple[float, float] = (0.6, 2.0),
         healthy_angle_range: tuple[float, float] = (-1.0, 1.0),
         terminate_when_unhealthy: bool = True,

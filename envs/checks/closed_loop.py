@@ -6,9 +6,9 @@ demonstration's torques, indexed by phase. This is the loop a Gymnasium user run
 the control period differs: the check decides every :data:`CHECK_CONTROL_DT` (the
 environment's ``frame_skip`` set to match), not every 0.01. At 0.01 the sampled PD rings
 after each heel strike and the feedback share measures that ringing more than the
-demonstration (nominal step: 37 % at 0.01, 14 % at 0.0025, 13 % at every physics step).
-Reported: steps walked, tracking error (RMS and max over environment steps and the four
-actuated joints, rad), and the feedback share
+demonstration (nominal step: 37 % at 0.01, 14 % at 0.0025 and at 0.002, 13 % at every
+0.0005; docs/environment.md). Reported: steps walked, tracking error (RMS and max over
+environment steps and the four actuated joints, rad), and the feedback share
 ``sum |tau_fb| / (sum |tau_ff| + sum |tau_fb|)`` over every environment step and joint.
 The walk stops early on a fall (the environment's termination) or when a step lasts
 over :data:`MAX_STEP_FRACTION` times the demonstration's.
@@ -37,7 +37,7 @@ DEFAULT_STEPS = 10
 #: A step that has not ended after this multiple of the reference duration counts as a fall.
 MAX_STEP_FRACTION = 2.0
 #: Longest time between the check's control decisions (sqrt(L/g)); every physics step if
-#: that is longer.
+#: that is longer (so every 0.002 with the environment's physics).
 CHECK_CONTROL_DT = 0.0025
 
 
