@@ -12,7 +12,7 @@ from ioc_bench.model.params import WalkerParams
 
 #: The environment's physics: the generated model's contact settings with RK4 steps of
 #: 0.002 (Walker2d-v5's). Measured against 0.0005 (the MJCF default, which the open-loop
-#: check keeps): the closed-loop check's feedback shares agree within 0.02 on eight
+#: check keeps): the closed-loop check's feedback shares agree within 0.021 on eight
 #: demonstrations, the inverse-dynamics check does not integrate, the stance contact and
 #: penetration are unchanged, and random play is as stable; steps/s roughly triple
 #: (docs/environment.md, ``benchmarks/physics_step.py``). The contact time constant

@@ -6,8 +6,8 @@ demonstration's torques, indexed by phase. This is the loop a Gymnasium user run
 the control period differs: the check decides every :data:`CHECK_CONTROL_DT` (the
 environment's ``frame_skip`` set to match), not every 0.01. At 0.01 the sampled PD rings
 after each heel strike and the feedback share measures that ringing more than the
-demonstration (nominal step: 37 % at 0.01, 14 % at 0.0025 and at 0.002, 13 % at every
-0.0005; docs/environment.md). Reported: steps walked, tracking error (RMS and max over
+demonstration (nominal step: 48 % at 0.01 and 14 % at every 0.002 physics step; with
+v0's 0.0005 physics 37 % and 13 %; docs/environment.md). Reported: steps walked, tracking error (RMS and max over
 environment steps and the four actuated joints, rad), and the feedback share
 ``sum |tau_fb| / (sum |tau_ff| + sum |tau_fb|)`` over every environment step and joint.
 The walk stops early on a fall (the environment's termination) or when a step lasts
