@@ -83,3 +83,17 @@ def test_old_version_points_to_the_new_one():
 
     with pytest.raises(gym.error.DeprecatedEnv, match="v1"):
         gym.make("IOCBench/PlanarWalker-v0")
+
+
+def test_async_vector_env_tracks_a_demonstration(nominal_demo: Demonstration):
+    """The demonstration argument and the policy cross process boundaries (pickled)."""
+    import envs
+
+    policy = envs.TrackingPolicy(nominal_demo)
+    vec = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="async", demonstration=nominal_demo)
+    obs, info = vec.reset(seed=0)
+    for _ in range(int(1.5 * nominal_demo.trajectory.duration / 0.01)):
+        obs, _, terminated, _, info = vec.step(policy(obs, info))
+        assert not terminated.any()
+    assert list(info["heel_strikes"]) == [1, 1] and list(info["stance_leg"]) == ["b", "b"]
+    vec.close()
