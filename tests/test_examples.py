@@ -24,3 +24,22 @@ def test_custom_algorithm_example(ideal_nominal_cached, monkeypatch):
     assert result.status == "max_iterations" and result.n_solves == 2
     assert np.isfinite(result.weight_error) and len(result.history) == 2
     assert sum(1 for line in EXAMPLE.read_text().splitlines() if line.strip()) < 45
+
+
+TRACKING_EXAMPLE = EXAMPLE.parent / "track_demonstration.py"
+
+
+def test_track_demonstration_example(nominal_demo, tmp_path, capsys):
+    """Four walkers of different leg masses track the demonstration in a vector env (3 steps here)."""
+    from PIL import Image
+
+    spec = importlib.util.spec_from_file_location("track_demonstration_example", TRACKING_EXAMPLE)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    result = module.main(nominal_demo, out=str(tmp_path / "walk.gif"), steps=3)
+    assert result["fell"] == [False] * 4
+    assert all(0 < rms < 0.05 for rms in result["rms"])  # rad (measured 1e-3..1e-2 over 10 steps)
+    with Image.open(result["gif"]) as gif:
+        assert gif.n_frames > 20 and gif.size == (480, 360)
+    out = capsys.readouterr().out
+    assert out.count("3 steps, tracking error RMS") == 4

@@ -1,9 +1,14 @@
-"""``ioc-bench replay``: check a demonstration in MuJoCo (inverse dynamics, open and closed loop).
+"""``ioc-bench replay``: check demonstrations in MuJoCo (inverse dynamics, open and closed loop).
 
-Exit code 0 when the inverse-dynamics and closed-loop checks pass, 1 when one fails, 2 on
-a missing or malformed demonstration file. The open-loop error is reported, not judged
-(walking is unstable without feedback). ``ioc_bench`` does not import ``envs`` (nor
-MuJoCo) until this command runs.
+The closed loop walks each demonstration with ``envs.TrackingPolicy`` through the
+Gymnasium environment's ``step``, the loop users run. Several files are checked one after
+the other (``ioc-bench replay demos/*.npz``), with a summary line each; ``--json`` prints
+one JSON object per file, one per line.
+
+Exit code 0 when the inverse-dynamics and closed-loop checks of every file pass, 1 when
+one fails, 2 on a missing or malformed demonstration file (all files are read before any
+check runs). The open-loop error is reported, not judged (walking is unstable without
+feedback). ``ioc_bench`` does not import ``envs`` (nor MuJoCo) until this command runs.
 """
 
 from __future__ import annotations
@@ -19,10 +24,12 @@ MODELS = ("demo", "nominal")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("replay", help="check a demonstration in MuJoCo (inverse dynamics, open/closed loop)")
+    p = sub.add_parser("replay", help="check demonstrations in MuJoCo (inverse dynamics, open/closed loop)")
     p.description = __doc__
-    p.add_argument("demo", type=Path, metavar="DEMO.npz", help="demonstration file written by 'ioc-bench gait'")
-    p.add_argument("--out", type=Path, default=None, help="directory for the GIF and plot (default: next to DEMO)")
+    p.add_argument(
+        "demos", type=Path, nargs="+", metavar="DEMO.npz", help="demonstration file(s) written by 'ioc-bench gait'"
+    )
+    p.add_argument("--out", type=Path, default=None, help="directory for the GIFs and plots (default: next to DEMO)")
     p.add_argument("--steps", type=positive_int, default=10, help="closed-loop steps to walk (default 10)")
     p.add_argument(
         "--model",
@@ -37,30 +44,42 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ioc_bench.demo import Demonstration
-    from ioc_bench.model.params import WalkerParams
 
-    with usage_errors():
-        demo = Demonstration.load(args.demo)  # every problem with the file is a DemonstrationFileError
-    out_dir = output_dir(args.out if args.out is not None else args.demo.parent)
-    import envs.replay as rp  # lazily: ioc_bench must not need envs (or MuJoCo) to import
+    demos = []
+    for path in args.demos:
+        with usage_errors():
+            demos.append((path, Demonstration.load(path)))  # every problem with a file is a DemonstrationFileError
+    if args.out is not None:
+        output_dir(args.out)
+    results = [_replay_one(path, demo, args) for path, demo in demos]
+    if not args.json and len(results) > 1:
+        _print_summary(results)
+    return 0 if all(r["passed"] for r in results) else 1
+
+
+def _replay_one(path: Path, demo: Any, args: argparse.Namespace) -> dict[str, Any]:
+    import envs.checks as checks  # lazily: ioc_bench must not need envs (or MuJoCo) to import
+    import envs.plots as plots
+    from ioc_bench.model.params import WalkerParams
 
     params = demo.params if args.model == "demo" else WalkerParams()
     try:
-        report = rp.replay(demo, steps=args.steps, params=params)
+        report = checks.replay(demo, steps=args.steps, params=params)
     except ValueError as exc:  # a loadable file whose step cannot be replayed
-        raise UsageError(f"cannot replay {args.demo}: {exc}") from None
-    stem = args.demo.stem
+        raise UsageError(f"cannot replay {path}: {exc}") from None
+    out_dir = args.out if args.out is not None else path.parent
+    stem = path.stem
     outputs = {
-        "plot": str(rp.plot_comparison(demo, report.open_loop, report.closed_loop, out_dir / f"{stem}_replay.png"))
+        "plot": str(plots.plot_comparison(demo, report.open_loop, report.closed_loop, out_dir / f"{stem}_replay.png"))
     }
     if not args.no_video:
-        outputs["video"] = str(rp.write_animation(report.closed_loop, params, out_dir / f"{stem}_replay.gif"))
-    result = report.to_dict() | {"demo": str(args.demo), "model": args.model, "outputs": outputs}
+        outputs["video"] = str(plots.write_animation(report.closed_loop, params, out_dir / f"{stem}_replay.gif"))
+    result = report.to_dict() | {"demo": str(path), "model": args.model, "outputs": outputs}
     if args.json:
         print_json(result)
     else:
         _print_report(result)
-    return 0 if report.passed else 1
+    return result
 
 
 def _verdict(passed: bool) -> str:
@@ -87,3 +106,13 @@ def _print_report(r: dict[str, Any]) -> None:
         f"feedback share {100 * cl['feedback_share']:.1f} % (limit {100 * cl['share_limit']:g} %){fell}"
     )
     print("wrote    " + " and ".join(r["outputs"].values()))
+
+
+def _print_summary(results: list[dict[str, Any]]) -> None:
+    print(f"summary  {sum(r['passed'] for r in results)}/{len(results)} passed")
+    for r in results:
+        idr, cl = r["inverse_dynamics"], r["closed_loop"]
+        print(
+            f"  {_verdict(r['passed'])}  {r['demo']}: inverse dynamics {idr['relative_residual']:.1e}, walked "
+            f"{cl['steps_walked']}/{cl['steps_requested']} steps, feedback share {100 * cl['feedback_share']:.1f} %"
+        )

@@ -85,3 +85,27 @@ def test_bad_arguments_exit_2(demo_file, tmp_path, capsys):
     a_file = tmp_path / "file.txt"
     a_file.write_text("x")
     _bad_exit(["replay", demo_file, "--out", str(a_file)], capsys)
+
+
+def test_several_files_one_json_line_each(demo_file, heavy_file, capsys):
+    """The one-liner for a set of demonstrations: ``ioc-bench replay demos/*.npz``."""
+    code = main(["replay", demo_file, heavy_file, "--model", "nominal", "--json", "--no-video", "--steps", "1"])
+    lines = capsys.readouterr().out.splitlines()
+    reports = [json.loads(line) for line in lines]
+    assert [r["demo"] for r in reports] == [demo_file, heavy_file]
+    assert [r["inverse_dynamics"]["passed"] for r in reports] == [True, False]  # the nominal model
+    assert code == 1  # one of them failed
+
+
+def test_several_files_human_summary(demo_file, capsys):
+    code = main(["replay", demo_file, demo_file, "--no-video", "--steps", "1"])
+    out = capsys.readouterr().out
+    assert code == 0
+    summary = out[out.index("summary  2/2 passed") :].splitlines()
+    assert len(summary) == 3 and all(line.startswith(f"  PASS  {demo_file}: ") for line in summary[1:])
+
+
+def test_a_bad_file_among_good_ones_stops_before_any_check(demo_file, tmp_path, capsys):
+    err = _bad_exit(["replay", demo_file, str(tmp_path / "nope.npz")], capsys)
+    assert "not found" in err
+    assert "replay " not in capsys.readouterr().out

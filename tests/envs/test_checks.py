@@ -6,16 +6,17 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from envs.replay import (
+from envs.checks import (
     FEEDBACK_SHARE_LIMIT,
     ID_TOLERANCE,
-    PDGains,
-    Reference,
     closed_loop_replay,
     inverse_dynamics_check,
-    plot_comparison,
-    write_animation,
+    track_demonstrations,
 )
+from envs.checks.closed_loop import CHECK_CONTROL_DT
+from envs.plots import plot_comparison, write_animation
+from envs.reference import Reference
+from envs.tracking import PDGains
 from ioc_bench import Demonstration, WalkerParams
 
 
@@ -44,6 +45,8 @@ def test_open_loop_starts_on_the_demonstration_and_reports_its_drift(nominal_dem
     assert ol.qpos_ref == pytest.approx(ref.qpos)
     assert np.isfinite(ol.final_position_error) and np.isfinite(ol.final_velocity_error)
     assert ol.final_position_error == pytest.approx(ol.position_error[-1])
+    # The physics step divides the knot spacing, so every knot is sampled exactly.
+    assert ref.dt / ol.timestep == pytest.approx(round(ref.dt / ol.timestep), abs=1e-9)
     # Not a pass/fail figure, but a sanity bound: one step does not drift far (measured ~1e-3).
     assert ol.final_position_error < 0.1
 
@@ -55,18 +58,23 @@ def test_closed_loop_walks_ten_steps_mostly_on_feed_forward(nominal_demo, nomina
     assert cl.feedback_share < FEEDBACK_SHARE_LIMIT
     assert cl.passed
     assert cl.tracking_rms < 0.01  # rad (measured ~1e-3)
+    assert cl.control_dt <= CHECK_CONTROL_DT
     # Legs swap at every heel strike and steps last about as long as the demonstration's.
     assert len(cl.heel_strikes) == 10
     assert set(cl.stance) == {"a", "b"}
     durations = np.diff((0.0, *cl.heel_strikes))
     assert durations == pytest.approx(np.full(10, nominal_demo.trajectory.duration), rel=0.1)
+    # The stance foot stays on the floor (measured: at every control step).
+    assert cl.stance_contact > 0.95
 
 
 def test_feedback_share_is_the_documented_ratio(nominal_closed_loop):
     cl = nominal_closed_loop
-    ff, fb = np.abs(cl.tau_ff).sum(), np.abs(cl.tau_fb).sum()
-    # The recorded frames sample every knot spacing; the reported share sums every physics step.
-    assert cl.feedback_share == pytest.approx(fb / (ff + fb), abs=0.05)
+    # Every decision but the last one (taken after the walk, never applied) counts.
+    ff, fb = np.abs(cl.tau_ff[:-1]).sum(), np.abs(cl.tau_fb[:-1]).sum()
+    assert cl.feedback_share == pytest.approx(fb / (ff + fb), rel=1e-12)
+    err = cl.joints_ref[:-1] - cl.joints[:-1]
+    assert cl.tracking_rms == pytest.approx(np.sqrt(np.mean(err**2)), rel=1e-12)
 
 
 def test_demonstration_of_another_model_replays_on_its_own_model(heavy_legs_demo: Demonstration):
@@ -80,6 +88,18 @@ def test_a_fall_is_reported_not_raised(nominal_demo: Demonstration):
     assert cl.steps_walked < 10
     assert cl.fall_reason
     assert not cl.passed
+
+
+def test_track_demonstrations_takes_files_and_objects(nominal_demo: Demonstration, tmp_path):
+    path = nominal_demo.save(tmp_path / "demo.npz")
+    by_file, by_object = track_demonstrations([path, nominal_demo], steps=1)
+    assert by_file.steps_walked == by_object.steps_walked == 1
+    assert by_file.heel_strikes == by_object.heel_strikes
+
+
+def test_bad_steps_are_rejected(nominal_demo: Demonstration):
+    with pytest.raises(ValueError, match="steps"):
+        closed_loop_replay(nominal_demo, steps=0)
 
 
 def test_plot_and_animation_are_written(nominal_demo, nominal_open_loop, tmp_path):

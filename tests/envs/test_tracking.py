@@ -1,0 +1,114 @@
+"""``TrackingPolicy``: a demonstration walks through ``env.step``, alone and in a vector env."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from envs.coordinates import motor_controls
+from envs.heel_strikes import StanceTracker
+from envs.planar_walker import PlanarWalkerEnv
+from envs.reference import Reference
+from envs.tracking import PDGains, TrackingPolicy
+from ioc_bench import Demonstration
+
+ENV_ID = "envs:IOCBench/PlanarWalker-v1"
+
+
+def _walk(env: PlanarWalkerEnv, policy: TrackingPolicy, steps: int, limit: int = 5000) -> tuple[list[float], dict]:
+    """Heel-strike times of a walk of ``steps`` steps, and the last info."""
+    obs, info = env.reset()
+    strikes: list[float] = []
+    for i in range(limit):
+        obs, _, terminated, truncated, info = env.step(policy(obs, info))
+        assert not (terminated or truncated), f"fell after {len(strikes)} steps"
+        if info["heel_strikes"] > len(strikes):
+            strikes.append((i + 1) * env.dt)
+        if len(strikes) == steps:
+            return strikes, info
+    raise AssertionError(f"only {len(strikes)} steps in {limit} env steps")
+
+
+def test_policy_walks_ten_steps_in_the_default_environment(nominal_demo: Demonstration):
+    """The user's loop at the env's own dt = 0.01: ten heel strikes at the demonstration's pace.
+
+    With decisions only every 0.01 the walk limps (step durations alternate by up to
+    ~15 %, measured 0.85-1.05 for a 0.895 step; docs/environment.md), so the pace is
+    judged over the ten steps, not step by step (the replay check does that at finer
+    control).
+    """
+    env = PlanarWalkerEnv(demonstration=nominal_demo)
+    strikes, info = _walk(env, TrackingPolicy(nominal_demo), steps=10)
+    assert np.mean(np.diff([0.0, *strikes])) == pytest.approx(nominal_demo.trajectory.duration, rel=0.05)
+    speed = (info["x_position"] - Reference.of(nominal_demo).qpos[0, 0]) / strikes[-1]
+    assert speed == pytest.approx(nominal_demo.task.speed, rel=0.05)
+    assert info["stance_leg"] == "a"  # ten swaps: back on leg a
+
+
+def test_policy_at_the_initial_state_is_the_demonstrations_torque(nominal_demo: Demonstration):
+    """On the demonstration's own knot 0, the feedback vanishes: the action is the first knot's torque."""
+    env = PlanarWalkerEnv(demonstration=nominal_demo)
+    obs, info = env.reset()
+    cmd = TrackingPolicy(nominal_demo).command(obs, info)
+    assert cmd.phase == pytest.approx(0.0, abs=1e-9)
+    assert cmd.joints == pytest.approx(cmd.joints_ref, abs=1e-12)
+    assert np.abs(cmd.tau_fb).max() < 1e-6
+    assert cmd.action == pytest.approx(nominal_demo.trajectory.tau[0], abs=1e-6)
+    # With leg b in the stance role the same torques go to the other motors.
+    swapped = TrackingPolicy(nominal_demo).command(obs, {"stance_leg": "b"})
+    assert swapped.action == pytest.approx(motor_controls(swapped.tau_ff + swapped.tau_fb, "b"))
+
+
+def test_policy_serves_a_vector_env_like_single_envs(nominal_demo: Demonstration):
+    policy = TrackingPolicy(nominal_demo)
+    vec = gym.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", demonstration=nominal_demo)
+    single = PlanarWalkerEnv(demonstration=nominal_demo)
+    obs, info = vec.reset(seed=0)
+    s_obs, s_info = single.reset()
+    for _ in range(120):
+        action = policy(obs, info)
+        assert action.shape == (3, 4) and action.dtype == np.float32
+        s_action = policy(s_obs, s_info)
+        assert np.array_equal(action[1], s_action)
+        obs, _, terminated, _, info = vec.step(action)
+        s_obs, *_, s_info = single.step(s_action)
+        assert not terminated.any()
+    assert np.array_equal(obs[2], s_obs)
+    assert list(info["heel_strikes"]) == [s_info["heel_strikes"]] * 3
+    vec.close()
+
+
+def test_policy_needs_the_environments_info(nominal_demo: Demonstration):
+    policy = TrackingPolicy(nominal_demo)
+    obs, _ = PlanarWalkerEnv(demonstration=nominal_demo).reset()
+    with pytest.raises(ValueError, match="stance_leg"):
+        policy(obs, {})
+    with pytest.raises(ValueError, match="stance leg"):
+        policy(obs, {"stance_leg": "left"})
+    with pytest.raises(ValueError, match="17 or 18"):
+        policy(obs[:13], {"stance_leg": "a"})
+    with pytest.raises(ValueError, match="n observations"):
+        policy(np.stack([obs, obs]), {"stance_leg": np.array(["a"], dtype=object)})
+    with pytest.raises(ValueError, match="kp"):
+        PDGains(kp=-1.0)
+
+
+def test_policy_loads_a_file(nominal_demo: Demonstration, tmp_path):
+    path = nominal_demo.save(tmp_path / "demo.npz")
+    obs, info = PlanarWalkerEnv(demonstration=path).reset()
+    assert np.array_equal(TrackingPolicy(path)(obs, info), TrackingPolicy(nominal_demo)(obs, info))
+
+
+def test_heel_strike_needs_a_lift_off_and_a_landing_ahead():
+    tracker = StanceTracker("a")
+    both, ahead, behind = {"a": True, "b": True}, {"a": 0.0, "b": 0.3}, {"a": 0.0, "b": -0.3}
+    assert not tracker.update(both, ahead)  # b never left the floor: not a step
+    assert not tracker.update({"a": True, "b": False}, behind)  # lift-off
+    assert tracker.swing_lifted
+    assert not tracker.update(both, behind)  # a scuff behind the stance foot
+    assert tracker.update(both, ahead)  # landing ahead: heel strike
+    assert (tracker.stance_leg, tracker.heel_strikes, tracker.swing_lifted) == ("b", 1, False)
+    assert not tracker.update(both, {"a": 0.6, "b": 0.3})  # a has not lifted off yet
+    with pytest.raises(ValueError, match="stance leg"):
+        StanceTracker("c")
