@@ -17,10 +17,10 @@ from envs.physics import DEFAULT_CONTACT, HealthyRange, build_model, foot_in_con
 from envs.rendering import RENDERER_CHOICES, make_renderer
 from envs.state import WalkerState
 from ioc_bench.demo import Demonstration
-from ioc_bench.features import COST_FEATURES, DTAU_SCALE
+from ioc_bench.features import COST_FEATURES, FEATURES, group_columns
 from ioc_bench.model.mjcf import LEGS, ContactSettings
 from ioc_bench.model.params import WalkerParams
-from ioc_bench.model.walker import walker_linkage
+from ioc_bench.model.walker import ACTUATORS, WALKER, walker_linkage
 from ioc_bench.weights import WeightSpec, parse_weights
 
 #: Names of the reward terms in ``info``; the reward is their sum, in this order.
@@ -32,6 +32,8 @@ _PHYSICS_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 DemonstrationSpec = Demonstration | str | os.PathLike
 
+#: Motor columns of each actuator group (the motors are in ``ACTUATORS`` order, leg a in stance).
+_GROUPS = group_columns(WALKER, ACTUATORS)
 
 class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     r"""
@@ -109,11 +111,15 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     - *reward_forward*: `forward_reward_weight * (x_after - x_before) / dt`, the hip's
       forward velocity over the step.
     - *reward_hip*, *reward_knee*, *reward_dtau*: minus `cost_scale * w_i` times the step's
-      increment of each cost feature of ioc-bench (SPEC section 2), with `dt` as the knot
-      spacing: `phi_hip = (tau_hip_a^2 + tau_hip_b^2) dt`, `phi_knee` likewise for the
-      knees, `phi_dtau = 0.001 * sum_j ((tau_j - tau_j,prev) / dt)^2 dt` (0 on the first
-      step after a reset). The weights `w` are unit-norm over (hip, knee, dtau): the
-      `weights` argument if given; else those of the demonstration the episode started
+      increment of each cost feature of ioc-bench, computed by the very function the
+      optimizer sums over a step's knots (`ioc_bench.features.FEATURES[name].increment`,
+      with `dt` as the knot spacing). Like the features they are in the paper's units (SI
+      units of a 1 m, 1 kg walker under g = 9.81: torques in N m, time in s):
+      `phi_hip = (tau_hip_a^2 + tau_hip_b^2) dt` with `tau` in N m and `dt` in s, `phi_knee`
+      likewise for the knees, `phi_dtau = 0.001 * sum_j ((tau_j - tau_j,prev) / dt)^2 dt`
+      (0 on the first step after a reset). A demonstration's feature is the sum of these
+      increments over its step divided by the step's duration in seconds. The weights `w`
+      are unit-norm over (hip, knee, dtau): the `weights` argument if given; else those of the demonstration the episode started
       from, and nominal (1, 1, 1) for a standing start. `env.weights` holds the ones in
       use and `reset`'s `info["reward_weights"]` reports them.
 
@@ -443,11 +449,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         """The reward terms, the raw cost-feature increments and the state summary of one step."""
         dt = self.dt
         prev = torque if self._prev_torque is None else self._prev_torque
-        phi = {
-            "hip": float(torque[0] ** 2 + torque[1] ** 2) * dt,
-            "knee": float(torque[2] ** 2 + torque[3] ** 2) * dt,
-            "dtau": DTAU_SCALE * float(np.sum(((torque - prev) / dt) ** 2)) * dt,
-        }
+        phi = {name: float(FEATURES[name].increment(torque, prev, dt, _GROUPS)) for name in COST_FEATURES}
         info: dict[str, Any] = {"reward_forward": self.forward_reward_weight * (x_after - x_before) / dt}
         for w, name in zip(self.weights, COST_FEATURES):
             info[f"reward_{name}"] = -self.cost_scale * float(w) * phi[name]

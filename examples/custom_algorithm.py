@@ -29,9 +29,8 @@ class RandomSearch(IOCAlgorithm):
         for _ in range(self.config.candidates):
             w = rng.uniform(0.05, 1.0, problem.n_features)
             step = problem.optimize(w)  # a counted, timed forward solve under the IOC's model
-            error = problem.trajectory_error(step.trajectory) if step.success else np.inf
-            history.append(IterationRecord(tuple(w / np.linalg.norm(w)), error, step.status))
-        best = int(np.argmin([h.trajectory_error for h in history]))
+            history.append(IterationRecord.of(problem, w / np.linalg.norm(w), step))  # its errors
+        best = int(np.nanargmin([h.tracking_error for h in history]))
         return IOCResult(np.array(history[best].weights), "max_iterations", tuple(history), best)
 
 

@@ -22,7 +22,7 @@ from ioc_bench.task import Task
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 
 #: Bump whenever the transcription or solver settings change the optima.
-SOLVER_REVISION = 4
+SOLVER_REVISION = 5
 #: Multi-start seed of benchmark demonstrations (case seeds vary the IOC, not the truth).
 DEMO_SEED = 0
 

@@ -1,66 +1,93 @@
 """The paper's iterative IOC recast as an analytic-centre cutting-plane method (ACCPM).
 
-Why the printed method stalls on this walker (measured; see docs/ioc.md):
+Why the printed method stalls on this walker, measured in ``docs/ioc.md``: its weight step
+is nearly linear, so each candidate sits on an edge of the cone of separating weights, and
+a plain forward solve often ends in another local optimum that costs *more* than x* under
+the candidate, so the sample adds no cut and the same weights come back. This composition
+of :mod:`ioc_bench.ioc.cutting_plane`'s strategies keeps the paper's structure and changes:
 
-1. Features are 1e-4..1e-6, so ``log(1.5 + w . d)`` is linear in ``w`` to 1e-5: the weight
-   step is a linear program whose optimum sits on an edge of the cone of separating
-   weights, not inside it, so each new cut removes little.
-2. A forward solve under candidate weights, even started from x*, often ends in a local
-   optimum that costs *more* than x* under those weights (the knee-lock makes the cost
-   landscape rugged). Its features then satisfy the candidate's own constraint, the
-   sample adds no cut, and the same weights come back.
-
-This variant fixes both, keeping the paper's structure (samples, weight optimization,
-forward solves, iterate):
-
-- the weight step is the analytic centre of the cone of separating weights, in features
-  scaled by their observed values, so every cut goes through the middle of what is left;
-- the forward step is a proximal solve anchored at x*: minimise ``w.phi(x)/w.phi(x*) +
-  lambda * D(x, x*)``. Started at x* and held near it, it comes back cheaper under ``w``
-  whenever ``w`` is not optimal for x*, which is a cut (and, x* being locally optimal for the
-  true weights, a cut that keeps them); if it returns x* itself, ``w`` is consistent with
-  the observation. ``lambda`` rises through a ladder until a cut is found;
-- it stops when no cut is found at the largest ``lambda`` or the weights stop moving, and
-  outputs the last centre. Known limit: IPOPT can still wander off and return a costlier
-  step, which this rule also reads as "no cut" (seen once in the ablation, docs/ioc.md);
-- when the observation is infeasible for the IOC's model (noise, wrong mass or speed), it
-  works around the observation's feasible projection x^ instead (x^ = x* when x* is
-  feasible);
-- if the cuts become inconsistent (no weights make x^ optimal: an imperfect observation,
-  or an x* that IPOPT left stationary but not minimal across a knee-lock switch), it
-  stops and outputs the centre of the cone relaxed just enough to be non-empty (1.5x the
-  smallest relaxation). Measured on the two fast-gait cases where this happens: the last
-  feasible centre gave 0.005 and 0.019, the max-min weights 0.029 and 0.005.
+- the reference: the observation's feasible projection x^ (x* itself when the IOC's model
+  can produce it);
+- the weight step: the analytic centre of the cone of separating weights, in features
+  scaled by their value at x^, so every cut goes through the middle of what is left; if
+  the cuts become inconsistent, the centre of the cone relaxed just enough to be non-empty;
+- the forward step: a proximal solve anchored at x^, ``min w.phi(x)/w.phi(x^) + lambda
+  D(x, x^)``, ``lambda`` rising through a ladder until the step is cheaper than x^ (a cut;
+  x* being locally optimal for the true weights, such cuts keep them);
+- no random samples; stop when no cut is found (the candidate is consistent with x^);
+  output the last centre.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 
-from ioc_bench.ioc.log_barrier import LogBarrier, LogBarrierConfig
+import numpy as np
+
+from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
+from ioc_bench.ioc.cutting_plane import AnalyticCentreStep, CuttingPlane, ProximalForward, Reference, last_output
+from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
 
 
 @dataclass(frozen=True)
-class AnalyticCenterConfig(LogBarrierConfig):
-    """:class:`LogBarrierConfig` with every fix on (see the module docstring)."""
+class AnalyticCenterConfig:
+    """Settings of the analytic-centre cutting-plane method.
 
-    n_random: int = 0
+    Attributes:
+        max_iterations: candidates tried at most.
+        weight_tol: stop when no weight (unit norm) moves more than this.
+        lower: lower bound of every weight (the paper's method uses 0.001).
+        proximal: the ladder of proximal weights of the forward step.
+        cut_threshold: relative cost decrease (and feature difference) below which a step is
+            x^ again, not a cut.
+        n_random: projected random perturbations seeding the samples (they cut little).
+        perturbation: their noise, as a fraction of each signal's span.
+    """
+
     max_iterations: int = 40
     weight_tol: float = 2e-4
     lower: float = 0.0
-    upper: float = 1.0
-    objective: str = "center"
-    scale_features: bool = True
-    forward: str = "proximal"
-    stop_without_cut: bool = True
-    reference: str = "feasible"
-    output: str = "last"
+    proximal: tuple[float, ...] = (30.0, 300.0)
+    cut_threshold: float = 1e-6
+    n_random: int = 0
+    perturbation: float = 0.05
+
+    def __post_init__(self) -> None:
+        if self.max_iterations < 1 or self.n_random < 0 or not (0 <= self.lower < 1):
+            raise ValueError("max_iterations must be >= 1, n_random >= 0 and 0 <= lower < 1")
+        if not self.proximal or any(p <= 0 for p in self.proximal):
+            raise ValueError("proximal must be a non-empty ladder of positive weights")
+        if not (self.weight_tol >= 0 and self.cut_threshold >= 0 and self.perturbation > 0):
+            raise ValueError("weight_tol and cut_threshold must be >= 0, perturbation > 0")
+        object.__setattr__(self, "proximal", tuple(self.proximal))
+
+
+def _centre_step(lower: float, phi_ref: np.ndarray) -> AnalyticCentreStep:
+    unit = np.maximum(phi_ref, 1e-3 * phi_ref.max())
+    return AnalyticCentreStep(unit, lower=lower)
 
 
 @register_algorithm("analytic-center")
-class AnalyticCenter(LogBarrier):
+class AnalyticCenter(IOCAlgorithm):
     """Log-barrier IOC as an analytic-centre cutting-plane method with proximal cuts."""
 
     description = "log-barrier IOC as an analytic-centre cutting-plane method (scaled features, proximal cuts)"
+    family = "cutting-plane"
     Config = AnalyticCenterConfig
+
+    def fit(self, problem: IOCProblem) -> IOCResult:
+        cfg: AnalyticCenterConfig = self.config
+        return CuttingPlane(
+            reference=Reference("projected"),
+            weight_step=partial(_centre_step, cfg.lower),
+            forward=ProximalForward(cfg.proximal),
+            output=last_output,
+            n_random=cfg.n_random,
+            perturbation=cfg.perturbation,
+            max_iterations=cfg.max_iterations,
+            weight_tol=cfg.weight_tol,
+            cut_threshold=cfg.cut_threshold,
+            stop_without_cut=True,
+        ).run(problem)

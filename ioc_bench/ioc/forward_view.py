@@ -27,7 +27,7 @@ import scipy.sparse as sp
 
 from ioc_bench.trajectory import Trajectory
 from ioc_bench.trajopt.derivatives import ActiveSet, StepDerivatives
-from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE, StepRules
+from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE, StepRules, SymbolicStep
 from ioc_bench.weights import full_weights
 
 if TYPE_CHECKING:
@@ -62,6 +62,28 @@ class ForwardView:
         """Where each named block (``dt``, ``q``, ``v``, ``force``, ``tau``, ...) sits in ``x``."""
         layout = self._solver.nlp.layout
         return {name: layout.slice(name) for name in layout.blocks}
+
+    @cached_property
+    def signal_indices(self) -> np.ndarray:
+        """(T, n) index into ``x`` of every signal of :meth:`Observation.signals` (positions,
+        velocities and torques knot by knot), so that ``x[signal_indices]`` are the signals."""
+        layout = self._solver.nlp.layout
+        t = self._solver.nlp.n_knots
+        index = np.arange(layout.size)
+        parts = [index[layout.slice(name)].reshape(t, -1) for name in ("q", "v", "tau")]
+        return np.concatenate(parts, axis=1)
+
+    def tracking_error(self, x: np.ndarray) -> tuple[float, np.ndarray]:
+        """:meth:`IOCProblem.tracking_error` of the step ``x`` encodes, and its gradient in ``x``."""
+        prob = self._problem
+        idx = self.signal_indices
+        observed = prob.observed.signals(len(self._solver.nlp.actuators))
+        measured = np.isfinite(observed)
+        diff = np.where(measured, (x[idx] - np.where(measured, observed, 0.0)) / prob.signal_spans, 0.0)
+        n = max(int(measured.sum()), 1)
+        grad = np.zeros(x.size)
+        np.add.at(grad, idx, 2.0 * diff / (prob.signal_spans * n))
+        return float((diff**2).sum() / n), grad
 
     @property
     def constraint_groups(self) -> dict[str, slice]:
@@ -152,6 +174,42 @@ class ForwardView:
             active = self._d.active_set(s.x, self._d.constraints(s.x, p), self._bounds)
             dx = self._d.sensitivity(s.x, p, s.lam_g, active)
         return dx[:, self._columns]
+
+    # -- for methods that build their own NLP around the forward problem -----------------------------
+    @property
+    def symbolic(self) -> SymbolicStep:
+        """The forward problem's CasADi expressions (the same object for every problem of a
+        process, so an NLP built on it can be cached): ``x``, ``p``, ``g``, the weighted
+        features over :attr:`all_features` and the regularizer."""
+        return self._solver.nlp.symbolic
+
+    @property
+    def all_features(self) -> tuple[str, ...]:
+        """The forward problem's features (weights over these enter :meth:`parameters`)."""
+        return self._solver.nlp.features
+
+    @property
+    def feature_columns(self) -> list[int]:
+        """Where each of the problem's features sits among :attr:`all_features`."""
+        return list(self._columns)
+
+    def parameters(self, weights: np.ndarray | None = None) -> np.ndarray:
+        """The value of ``symbolic.p`` for this problem's model and task, with unit ``weights``
+        over the problem's features (default: all zero)."""
+        return self._p(weights)
+
+    def tracking_quadratic(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(ref, weight)`` over ``x`` with ``tracking_error(x) = sum(weight * (x - ref)^2)``
+        (weight 0 where ``x`` holds no measured signal)."""
+        prob = self._problem
+        observed = prob.observed.signals(len(self._solver.nlp.actuators))
+        measured = np.isfinite(observed)
+        rows, cols = np.nonzero(measured)
+        idx = self.signal_indices[rows, cols]
+        weight, ref = np.zeros(self.n_x), np.zeros(self.n_x)
+        weight[idx] = 1.0 / (prob.signal_spans[cols] ** 2 * measured.sum())
+        ref[idx] = observed[rows, cols]
+        return ref, weight
 
     # -- internals ----------------------------------------------------------------------------------
     def _p(self, weights: np.ndarray | None = None) -> np.ndarray:

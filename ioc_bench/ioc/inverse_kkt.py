@@ -6,16 +6,16 @@ its application to modeling human locomotion" (ICRA 2012), and Englert, Vien & T
 2017). At the observation projected onto the IOC's model and task, ``x^``, the forward
 problem's stationarity condition (``problem.forward``, IPOPT's sign convention)::
 
-    s J_phi(x^)^T w + c grad R(x^) + J_g(x^)^T lam + lam_x = 0
+    s J_phi(x^)^T w + c grad R(x^) + J_g(x^)^T nu + lam = 0
 
-is linear in the weights ``w``, the penalty's coefficient ``c`` and the multipliers. With
-``x^``'s active set, equality constraints have free multipliers, active inequalities and
-bounds sign-constrained ones, inactive ones none. The algorithm minimises the residual's
-squared norm over ``w >= 0`` with ``sum(w) = 1``, ``c >= 0`` and the multipliers: a bounded
-linear least-squares problem (``scipy.optimize.lsq_linear``). The free multipliers are
-eliminated first by projecting onto the complement of the equality Jacobian's row space
-(one sparse factorisation), which leaves a problem with a column per weight, per active
-inequality and per active bound. The weights are normalised in units of their own
+is linear in the weights ``w``, the penalty's coefficient ``c`` and the multipliers ``nu``
+(constraints) and ``lam`` (bounds). With ``x^``'s active set, equality constraints have free
+multipliers, active inequalities and bounds sign-constrained ones, inactive ones none. The
+algorithm minimises the residual's squared norm over ``w >= 0``, ``c >= 0`` and the
+multipliers: a bounded linear least-squares problem (``scipy.optimize.lsq_linear``). The
+free multipliers are eliminated first by projecting onto the complement of the equality
+Jacobian's row space (one sparse factorisation), which leaves a column per weight, per
+active inequality and per active bound. The weights are normalised in units of their own
 columns' norms (each feature's projected gradient), so no feature wins by being small.
 One projection and no forward solve.
 """
@@ -47,8 +47,7 @@ class InverseKKTConfig:
             rows (whose columns are scaled to unit norm).
         regularisation: Tikhonov term (relative) for the equality Jacobian's Gram matrix,
             used only if it is singular (measured: with 1e-10 always on, the elimination
-            left a residual that cost 0.005-0.03 weight error in the ideal condition; with
-            none, 1e-7).
+            left a residual that cost 0.005-0.03 weight error in the ideal condition).
     """
 
     active_tol: float = 1e-5
@@ -60,6 +59,110 @@ class InverseKKTConfig:
             raise ValueError("active_tol and normalisation_weight must be > 0, regularisation >= 0")
 
 
+@dataclass(frozen=True)
+class ActiveSides:
+    """Which side of each constraint and bound is active at a point (masks)."""
+
+    g_lower: np.ndarray
+    g_upper: np.ndarray
+    x_lower: np.ndarray
+    x_upper: np.ndarray
+
+
+@dataclass(frozen=True)
+class KKTFit:
+    """The least-squares KKT solution at a point.
+
+    Attributes:
+        weights: (F,) unit-norm weights over the problem's features.
+        raw_weights: (F,) the weights as fitted, with ``normalisation . raw_weights = 1``.
+        normalisation: (F,) each feature's projected gradient norm (its weight's unit).
+        penalty: the coefficient of the lock penalty's gradient.
+        nu: (n_g,) constraint multipliers (0 for inactive inequalities).
+        lam: (n_x,) bound multipliers (0 for inactive bounds).
+        active: the active sides used.
+        residual: norm of the stationarity residual at the fit.
+        relative_residual: ``residual`` over the norm of the weights' projected columns.
+        success: the least-squares solver converged.
+    """
+
+    weights: np.ndarray
+    raw_weights: np.ndarray
+    normalisation: np.ndarray
+    penalty: float
+    nu: np.ndarray
+    lam: np.ndarray
+    active: ActiveSides
+    residual: float
+    relative_residual: float
+    success: bool
+
+
+def fit_kkt(view, x: np.ndarray, cfg: InverseKKTConfig) -> KKTFit:
+    """The inverse-KKT least-squares fit at decision vector ``x`` of a :class:`ForwardView`."""
+    lbx, ubx = view.variable_bounds()
+    lbg, ubg = view.constraint_bounds()
+    g = view.constraints(x)
+    inequality = lbg < ubg
+    g_lo, g_hi = _sides(g, lbg, ubg, cfg.active_tol)
+    x_lo, x_hi = _sides(x, lbx, ubx, cfg.active_tol)
+    active = ActiveSides(g_lo & inequality, g_hi & inequality, x_lo, x_hi)
+    jac_t = view.constraint_jacobian(x).T.tocsc()
+    eye = sp.eye(x.size, format="csc")
+    weights = view.objective_scale * view.feature_jacobian(x).T.toarray()
+    n_w = weights.shape[1]
+    blocks = [
+        (weights, np.zeros(n_w), np.full(n_w, np.inf)),
+        (view.regularizer_gradient(x)[:, None], [0.0], [np.inf]),
+    ]
+    groups = []  # (matrix, indices, lower, upper) of each signed multiplier group
+    for matrix, mask, lo, hi in (
+        (jac_t, active.g_lower, -np.inf, 0.0),
+        (jac_t, active.g_upper, 0.0, np.inf),
+        (eye, active.x_lower, -np.inf, 0.0),
+        (eye, active.x_upper, 0.0, np.inf),
+    ):
+        idx = np.flatnonzero(mask)
+        groups.append(idx)
+        blocks.append((matrix[:, idx].toarray(), np.full(idx.size, lo), np.full(idx.size, hi)))
+    columns = np.hstack([b[0] for b in blocks])
+    lower = np.concatenate([np.asarray(b[1], dtype=float) for b in blocks])
+    upper = np.concatenate([np.asarray(b[2], dtype=float) for b in blocks])
+    equality = view.constraint_jacobian(x).tocsr()[lbg == ubg]
+    lu = _gram_factor(equality, cfg.regularisation)
+    projected = columns - equality.T @ lu.solve(equality @ columns)
+    norms = np.maximum(np.linalg.norm(projected, axis=0), 1e-300)
+    row = np.zeros(columns.shape[1])
+    row[:n_w] = cfg.normalisation_weight
+    a = np.vstack([projected / norms, row])
+    b = np.zeros(a.shape[0])
+    b[-1] = cfg.normalisation_weight
+    fit = lsq_linear(a, b, bounds=(lower * norms, upper * norms), method="bvls")
+    z = fit.x / norms
+    nu, lam = np.zeros(g.size), np.zeros(x.size)
+    offset = n_w + 1
+    for k, idx in enumerate(groups):
+        target = nu if k < 2 else lam
+        target[idx] += z[offset : offset + idx.size]
+        offset += idx.size
+    nu[lbg == ubg] = -lu.solve(equality @ (columns @ z))  # the eliminated equality multipliers
+    raw = np.maximum(z[:n_w], 0.0)
+    residual = float(np.linalg.norm(projected @ z))
+    scale = float(np.linalg.norm(projected[:, :n_w] @ raw))
+    return KKTFit(
+        weights=raw / max(np.linalg.norm(raw), 1e-300),
+        raw_weights=raw,
+        normalisation=norms[:n_w],
+        penalty=float(z[n_w]),
+        nu=nu,
+        lam=lam,
+        active=active,
+        residual=residual,
+        relative_residual=residual / max(scale, 1e-300),
+        success=bool(fit.success) and bool(np.any(raw > 0)),
+    )
+
+
 @register_algorithm("inverse-kkt")
 class InverseKKT(IOCAlgorithm):
     """Weights minimising the KKT residual at the projected observation (bounded least squares)."""
@@ -69,78 +172,31 @@ class InverseKKT(IOCAlgorithm):
     Config = InverseKKTConfig
 
     def fit(self, problem: IOCProblem) -> IOCResult:
-        cfg: InverseKKTConfig = self.config
         ref = problem.reference()
         if not ref.success:
             return IOCResult(np.full(problem.n_features, np.nan), f"failed: projection {ref.status}")
         view = problem.forward
-        x = view.vector(ref.trajectory)
-        columns, lower, upper, n_w = _columns(view, x, cfg.active_tol)
-        equality = _equalities(view, x)
-        projected = _project_out(equality, columns, cfg.regularisation)
-        norms = np.maximum(np.linalg.norm(projected, axis=0), 1e-300)
-        scaled = projected / norms
-        row = np.zeros(scaled.shape[1])
-        row[:n_w] = cfg.normalisation_weight  # sum of the weights in units of their own columns' norms
-        a = np.vstack([scaled, row])
-        b = np.zeros(a.shape[0])
-        b[-1] = cfg.normalisation_weight
-        fit = lsq_linear(a, b, bounds=(lower * norms, upper * norms), method="bvls")
-        z = fit.x / norms
-        w = np.maximum(z[:n_w], 0.0)
-        if not np.any(w > 0):
-            return IOCResult(np.full(problem.n_features, np.nan), "failed: all weights zero")
-        residual = float(np.linalg.norm(projected @ z))
-        scale = float(np.linalg.norm(projected[:, :n_w] @ w))
+        with problem.stats.timed("kkt_fit"):
+            fit = fit_kkt(view, view.vector(ref.trajectory), self.config)
         notes = {
-            "kkt_residual": residual,
-            "relative_residual": residual / max(scale, 1e-300),
-            "active_columns": int(a.shape[1] - n_w - 1),
-            "lsq_status": int(fit.status),
+            "kkt_residual": fit.residual,
+            "relative_residual": fit.relative_residual,
+            "active_constraints": int(fit.active.g_lower.sum() + fit.active.g_upper.sum()),
+            "active_bounds": int(fit.active.x_lower.sum() + fit.active.x_upper.sum()),
         }
-        return IOCResult(w / np.linalg.norm(w), "converged" if fit.success else f"failed: {fit.message}", notes=notes)
+        if not fit.success:
+            return IOCResult(np.full(problem.n_features, np.nan), "failed: the least-squares fit failed", notes=notes)
+        return IOCResult(fit.weights, "converged", notes=notes)
 
 
-def _columns(view, x: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Dense (n_x, k) stationarity columns with their bounds: the weights' (``s dphi/dx^T``),
-    the penalty gradient's, and one per active inequality and bound (sign-constrained)."""
-    lbx, ubx = view.variable_bounds()
-    lbg, ubg = view.constraint_bounds()
-    g = view.constraints(x)
-    weights = view.objective_scale * view.feature_jacobian(x).T.toarray()
-    cols = [weights, view.regularizer_gradient(x)[:, None]]
-    lower = [np.zeros(weights.shape[1]), [0.0]]
-    upper = [np.full(weights.shape[1], np.inf), [np.inf]]
-    jac = view.constraint_jacobian(x)
-    inequality = lbg < ubg
-    for values, lo, hi, matrix in ((g, lbg, ubg, jac.T.tocsc()), (x, lbx, ubx, sp.eye(x.size, format="csc"))):
-        at_lo, at_hi = _sides(values, lo, hi, tol)
-        if matrix.shape[1] == g.size:
-            at_lo, at_hi = at_lo & inequality, at_hi & inequality
-        for mask, lo_b, hi_b in ((at_lo, -np.inf, 0.0), (at_hi, 0.0, np.inf)):
-            idx = np.flatnonzero(mask)
-            if idx.size:
-                cols.append(matrix[:, idx].toarray())
-                lower.append(np.full(idx.size, lo_b))
-                upper.append(np.full(idx.size, hi_b))
-    return np.hstack(cols), np.concatenate(lower), np.concatenate(upper), weights.shape[1]
-
-
-def _equalities(view, x: np.ndarray) -> sp.csr_matrix:
-    lbg, ubg = view.constraint_bounds()
-    return view.constraint_jacobian(x).tocsr()[lbg == ubg]
-
-
-def _project_out(equality: sp.csr_matrix, columns: np.ndarray, regularisation: float) -> np.ndarray:
-    """``columns`` minus their component in the row space of ``equality`` (whose multipliers
-    are free, so any such component can be absorbed)."""
+def _gram_factor(equality: sp.csr_matrix, regularisation: float):
+    """Sparse LU of ``E E^T`` (regularised only if singular: dependent equality constraints)."""
     gram = (equality @ equality.T).tocsc()
     try:
-        lu = spla.splu(gram)
-    except RuntimeError:  # dependent equality constraints: regularise
+        return spla.splu(gram)
+    except RuntimeError:
         scale = max(float(abs(gram).max()), 1.0)
-        lu = spla.splu((gram + regularisation * scale * sp.eye(gram.shape[0])).tocsc())
-    return columns - equality.T @ lu.solve(equality @ columns)
+        return spla.splu((gram + regularisation * scale * sp.eye(gram.shape[0])).tocsc())
 
 
 def _sides(values: np.ndarray, lower: np.ndarray, upper: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:

@@ -130,6 +130,12 @@ class IOCProblem:
     def n_features(self) -> int:
         return len(self.features)
 
+    @property
+    def signal_spans(self) -> np.ndarray:
+        """(n,) span of every measured signal of the observed step (what the tracking error
+        divides each difference by; 1 for signals not measured)."""
+        return self._spans.copy()
+
     def rng(self, stream: int = 0) -> np.random.Generator:
         """A generator seeded from the problem's seed (``stream`` separates independent uses)."""
         return np.random.default_rng([self.seed, stream])

@@ -38,6 +38,8 @@ _BUILTINS = {
     "log-barrier": "ioc_bench.ioc.log_barrier:LogBarrier",
     "analytic-center": "ioc_bench.ioc.analytic_center:AnalyticCenter",
     "inverse-kkt": "ioc_bench.ioc.inverse_kkt:InverseKKT",
+    "bilevel": "ioc_bench.ioc.bilevel:Bilevel",
+    "single-level": "ioc_bench.ioc.single_level:SingleLevel",
 }
 
 

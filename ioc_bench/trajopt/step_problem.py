@@ -27,6 +27,7 @@ over positions, velocities and torques ``x``; ``w = 0, r > 0`` is the IOC's proj
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any
 
 import casadi as ca
@@ -125,6 +126,30 @@ class StepRules:
             raise ValueError(f"cost must be 'per-time' or 'per-step', got {self.cost!r}")
 
 
+@dataclass(frozen=True, eq=False)
+class SymbolicStep:
+    """The step problem as CasADi expressions (one object per built problem).
+
+    The objective without tracking is ``weights . weighted_features + regularizer``.
+
+    Attributes:
+        x: decision vector symbol.
+        p: parameter vector symbol.
+        g: constraint expressions (bounds per solve, see :meth:`StepProblem.constraint_bounds`).
+        weighted_features: ``scale * phi`` over :attr:`features`, the objective's derivative
+            by the weights.
+        regularizer: the weight-independent lock penalty.
+        features: the names of the features, in weight order.
+    """
+
+    x: ca.SX
+    p: ca.SX
+    g: ca.SX
+    weighted_features: ca.SX
+    regularizer: ca.SX
+    features: tuple[str, ...]
+
+
 @dataclass(frozen=True)
 class Bounds:
     """Simple bounds on the decision variables (knot spacing and magnitudes)."""
@@ -169,6 +194,19 @@ class StepProblem:
         self.lock_swap = permutation(self.locks, self.roles.swap_joints)
         self._declare()
         self._build()
+
+    @cached_property
+    def symbolic(self) -> SymbolicStep:
+        """The NLP's symbolic pieces, for methods that build their own NLP around it."""
+        x, p = self.nlp["x"], self.nlp["p"]
+        return SymbolicStep(
+            x=x,
+            p=p,
+            g=self.g_fn(x, p),
+            weighted_features=self.weight_basis,
+            regularizer=self.regularizer_fn(x, p),
+            features=self.features,
+        )
 
     @property
     def n_intervals(self) -> int:

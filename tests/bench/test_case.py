@@ -47,14 +47,17 @@ def test_misbehaving_algorithm_gives_failed_result(register, fit, reason, ideal_
 
 def test_oracle_counts_and_perfect_answer_scores_zero(register, ideal_nominal_cached):
     def fit(self, problem):
-        problem.optimize(np.ones(3))
+        problem.optimize(np.ones(3))  # starts at the projected observation: one projection, one solve
         assert not hasattr(problem, "weights") and not hasattr(problem.observed, "weights")
+        hidden = ("acc", "pin_forces", "lock", "impulses", "trail_impulse", "lock_impulses")
+        assert not any(hasattr(problem.observed, name) for name in hidden)  # only what a lab measures
         return IOCResult(np.ones(3))  # the truth for the nominal set
 
     name = register("oracle-user", fit)
     result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
     assert result.status == "converged"
-    assert result.n_solves == 1 and result.oracle["calls"]["optimize"] == 1
+    assert result.oracle["calls"]["optimize"] == 1 and result.oracle["calls"]["project"] == 1
+    assert result.n_solves == 2
     assert result.weight_error == pytest.approx(0.0, abs=1e-12)
     assert result.trajectory_error < 1e-6  # the truth regenerates the observed step
 

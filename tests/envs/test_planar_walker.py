@@ -17,7 +17,6 @@ from gymnasium.utils.env_checker import check_env
 from envs.planar_walker import REWARD_TERMS, PlanarWalkerEnv
 from ioc_bench import Demonstration, WalkerParams
 from ioc_bench.features import COST_FEATURES
-from ioc_bench.model.walker import walker_linkage
 from ioc_bench.weights import parse_weights
 
 ENV_ID = "envs:IOCBench/PlanarWalker-v1"
@@ -53,14 +52,16 @@ def test_reward_is_the_sum_of_its_terms(rng):
         for weight, name in zip(w, COST_FEATURES):
             assert info[f"reward_{name}"] == pytest.approx(-weight * info[f"phi_{name}"])
         tau = action.astype(float)
-        assert info["phi_hip"] == pytest.approx((tau[0] ** 2 + tau[1] ** 2) * env.dt)
-        assert info["phi_knee"] == pytest.approx((tau[2] ** 2 + tau[3] ** 2) * env.dt)
+        g = 9.81  # the paper's units: N m and s for a 1 m, 1 kg walker, so tau^2 dt scales by g^1.5
+        assert info["phi_hip"] == pytest.approx(g**1.5 * (tau[0] ** 2 + tau[1] ** 2) * env.dt)
+        assert info["phi_knee"] == pytest.approx(g**1.5 * (tau[2] ** 2 + tau[3] ** 2) * env.dt)
         if i == 0:
             assert info["phi_dtau"] == 0.0  # no torque before the first step
 
 
 def test_cost_features_accumulate_like_the_optimizers(nominal_demo: Demonstration):
-    """Summed per-step increments of a torque sequence equal ioc-bench's feature definitions."""
+    """Per-step increments of a torque sequence, summed and divided by the duration in seconds,
+    equal ioc-bench's features (effort per unit time)."""
     from ioc_bench.features import evaluate
 
     tr = nominal_demo.trajectory
@@ -73,9 +74,10 @@ def test_cost_features_accumulate_like_the_optimizers(nominal_demo: Demonstratio
         for name in COST_FEATURES:
             sums[name] += info[f"phi_{name}"]
     # The same torques on knots spaced like the env's steps.
-    expected = evaluate(replace(tr, dt=dt), walker_linkage(), COST_FEATURES)
+    expected = evaluate(replace(tr, dt=dt), nominal_demo.params, COST_FEATURES)
+    seconds = (tr.n_knots - 1) * dt / np.sqrt(9.81)
     for name in COST_FEATURES:
-        assert sums[name] == pytest.approx(expected[name], rel=1e-5)
+        assert sums[name] / seconds == pytest.approx(expected[name], rel=1e-5)
 
 
 def test_reset_from_a_demonstration_is_its_initial_state(nominal_demo: Demonstration, tmp_path):

@@ -12,16 +12,16 @@ from ioc_bench.ioc.log_barrier import LogBarrierConfig
 def test_log_barrier_defaults_are_the_paper():
     cfg = LogBarrierConfig()
     assert (cfg.offset, cfg.lower, cfg.upper, cfg.max_iterations) == (1.5, 0.001, 0.999, 25)
-    assert (cfg.objective, cfg.forward, cfg.output, cfg.scale_features) == ("paper", "plain", "min-error", False)
-    with pytest.raises(ValueError, match="objective"):
-        LogBarrierConfig(objective="nope")
+    with pytest.raises(ValueError, match="forward_start"):
+        LogBarrierConfig(forward_start="nope")
 
 
 def test_log_barrier_runs_and_logs_the_cut_test(ideal_nominal_cached):
     result = ioc_bench.run_case("log-barrier", "nominal", "ideal", seed=0, config={"n_random": 3, "max_iterations": 4})
     assert result.status in ("converged", "max_iterations", "infeasible")
-    assert 1 <= len(result.history) <= 4 and result.n_solves == 3 + len(result.history)
-    assert all("cost_gap" in h for h in result.history)
+    # one projection of the observation (the forward solves' start), 3 random samples, a solve per iteration
+    assert 1 <= len(result.history) <= 4 and result.n_solves == 1 + 3 + len(result.history)
+    assert all("cost_gap" in h["extra"] for h in result.history)
     assert result.weights == pytest.approx(result.history[result.chosen_iteration]["weights"])
     assert all(w >= 0.001 - 1e-9 for w in result.weights)
 
@@ -29,7 +29,9 @@ def test_log_barrier_runs_and_logs_the_cut_test(ideal_nominal_cached):
 @pytest.mark.parametrize("weights", ["nominal", "penalize-dtau", "3,1,5"])
 def test_analytic_center_recovers_weights_in_the_ideal_condition(weights):
     result = ioc_bench.run_case("analytic-center", weights, "ideal", seed=0)
-    assert result.status == "converged"
+    # near the truth the cuts become inconsistent at the reference's own accuracy (~1e-5 of
+    # cost): then the relaxed centre is the output
+    assert result.status in ("converged", "infeasible")
     assert result.weight_error < 0.01, (result.weights, result.true_weights)
     assert result.trajectory_error < 1e-3
     assert np.isclose(np.linalg.norm(result.weights), 1.0)

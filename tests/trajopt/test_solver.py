@@ -32,7 +32,7 @@ def test_failed_solve_is_a_result_not_an_exception(nominal_demo):
     x0 = solver.decision_vector(nominal_demo.trajectory)
     # An impossible task: faster than the step-time bounds allow.
     weights = full_weights(parse_weights("nominal"), ("hip", "knee", "dtau"))
-    result = solver.solve(StartPoint(x0), nominal_demo.params, 50.0, weights)
+    result = solver.solve(StartPoint(x0), nominal_demo.params, Task(50.0), weights)
     assert not result.report.success
     assert result.report.status != "Solve_Succeeded" or result.report.max_violation > FEASIBILITY_TOL
     demo = optimize_gait("nominal", task=Task(50.0), starts=1, workers=1)
@@ -45,6 +45,6 @@ def test_weak_lock_penalty_is_repaired(nominal_demo):
     solver = get_solver(nominal_demo.n_intervals)
     start = StartPoint(solver.decision_vector(nominal_demo.trajectory))
     weights = full_weights(parse_weights("nominal"), ("hip", "knee", "dtau"))
-    result = solver.solve(start, nominal_demo.params, 0.27, weights, lock_penalty=1.0)
+    result = solver.solve(start, nominal_demo.params, Task(0.27), weights, lock_penalty=1.0)
     assert result.report.repaired
     assert result.report.success and result.report.complementarity <= 1e-6
