@@ -35,6 +35,7 @@ DemonstrationSpec = Demonstration | str | os.PathLike
 #: Motor columns of each actuator group (the motors are in ``ACTUATORS`` order, leg a in stance).
 _GROUPS = group_columns(WALKER, ACTUATORS)
 
+
 class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     r"""
     ## Description
