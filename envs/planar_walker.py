@@ -120,9 +120,9 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
       likewise for the knees, `phi_dtau = 0.001 * sum_j ((tau_j - tau_j,prev) / dt)^2 dt`
       (0 on the first step after a reset). A demonstration's feature is the sum of these
       increments over its step divided by the step's duration in seconds. The weights `w`
-      are unit-norm over (hip, knee, dtau): the `weights` argument if given; else those of the demonstration the episode started
-      from, and nominal (1, 1, 1) for a standing start. `env.weights` holds the ones in
-      use and `reset`'s `info["reward_weights"]` reports them.
+      are unit-norm over (hip, knee, dtau): the `weights` argument if given; else those of
+      the demonstration the episode started from, and nominal (1, 1, 1) for a standing start.
+      `env.weights` holds the ones in use and `reset`'s `info["reward_weights"]` reports them.
 
     `info` also carries each raw increment (`phi_hip`, `phi_knee`, `phi_dtau`), the hip's
     `x_position` and `x_velocity`, which feet touch the floor (`contact_a`, `contact_b`),
