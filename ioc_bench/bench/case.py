@@ -139,7 +139,7 @@ def run_case(
     seed = check_seed(seed)
     algo = make_algorithm(algorithm, **check_config(config))
     params = params or WalkerParams()
-    demo = demo or demonstration(true3, params, cond.demo_task())
+    demo = demo or demonstration(true3, params, cond.demo_task(), seed=seed)
     base = _identity(algorithm, weight_set_label(weights), true3, cond, seed) | {
         "config": algo.config_dict(),
         "demo_features": dict(demo.features),

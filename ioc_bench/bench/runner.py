@@ -42,7 +42,7 @@ from ioc_bench.bench.results import (
 )
 from ioc_bench.demo import Demonstration
 from ioc_bench.fileio import check_output_dir
-from ioc_bench.ioc.registry import make_algorithm
+from ioc_bench.ioc.registry import get_algorithm, make_algorithm
 
 OnCase = Callable[[CaseSpec, CaseResult], None]
 
@@ -106,6 +106,8 @@ class RunPlan:
                 say(f"preparing {len(_demo_keys(pending))} demonstration(s)")
                 demos = prepare_demonstrations(pending)
                 retried = f" ({retries} retried after failing before)" if retries else ""
+                for name in sorted({spec.algorithm for spec in pending}):
+                    get_algorithm(name).prepare()  # shared set-up, built once before workers fork
                 say(f"running {len(pending)} case(s){retried}")
                 jobs = [Job(spec, demo_for(spec, demos)) for spec in pending]
                 schedule(self.executor, jobs, self.time_limit, finish)
@@ -173,13 +175,14 @@ def _demo_keys(specs: Sequence[CaseSpec]) -> dict[tuple, CaseSpec]:
 
 
 def _demo_key(spec: CaseSpec) -> tuple:
-    return (spec.weight_set, get_condition(spec.condition).demo_speed)
+    return (spec.weight_set, get_condition(spec.condition).demo_speed, spec.seed)
 
 
 def prepare_demonstrations(specs: Sequence[CaseSpec]) -> dict[tuple, Demonstration]:
-    """The true demonstration of every case, solved (all cores) or read from the cache."""
+    """The true demonstration of every case (its multi-start seed is the case's seed),
+    solved (all cores) or read from the cache."""
     return {
-        key: demonstration(spec.true_weights, task=get_condition(spec.condition).demo_task())
+        key: demonstration(spec.true_weights, task=get_condition(spec.condition).demo_task(), seed=spec.seed)
         for key, spec in _demo_keys(specs).items()
     }
 

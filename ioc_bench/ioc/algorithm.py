@@ -91,5 +91,10 @@ class IOCAlgorithm:
     def fit(self, problem: IOCProblem) -> IOCResult:
         raise NotImplementedError
 
+    @classmethod
+    def prepare(cls) -> None:
+        """Build what every case of this algorithm shares (e.g. a compiled NLP), once per
+        process; the runner calls it before forking workers. Default: nothing."""
+
     def config_dict(self) -> dict[str, Any]:
         return asdict(self.config) if is_dataclass(self.config) else {}
