@@ -26,7 +26,7 @@ from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution
-from ioc_bench.ioc.registry import check_config, make_algorithm
+from ioc_bench.ioc.registry import AlgorithmError, check_config, get_algorithm, make_algorithm
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
 
@@ -46,14 +46,19 @@ class CaseResult:
         weights: estimated weights over ``features``, unit norm (NaN if failed).
         true_weights: the truth over ``features`` (distractors 0), unit norm.
         weight_error: mean absolute weight difference (SPEC section 5).
-        trajectory_error: angles and angular velocities of the estimated weights' optimal
-            step versus the observed step (SPEC section 5).
+        trajectory_error: the paper's trajectory error (segment angles and angular
+            velocities, SPEC section 5) of the estimated weights' optimal step, re-solved in
+            the observation's basin for scoring.
+        found_trajectory_error: the paper's own reading: the trajectory error of the step
+            found during the IOC for the output weights (its chosen iteration); NaN for an
+            algorithm without such a step.
         n_solves: forward solves (trajectory optimizations) the algorithm asked for.
         wall_time: seconds the algorithm ran.
         history: per-iteration records as dicts.
         demo_features: every feature of the true demonstration (for Table I); empty when
             the demonstration could not be solved.
         demo_speed: speed of the demonstration.
+        family: the algorithm's family (``cutting-plane``, ``inverse-kkt``, ``bilevel``, ...).
     """
 
     algorithm: str
@@ -77,6 +82,8 @@ class CaseResult:
     scoring_status: str = ""
     demo_features: dict[str, float] = field(default_factory=dict)
     demo_speed: float = 0.0
+    found_trajectory_error: float = float("nan")
+    family: str = ""
     version: str = __version__
 
     @property
@@ -92,7 +99,7 @@ class CaseResult:
         fields = dict(data)
         for key in ("weights", "true_weights"):
             fields[key] = tuple(_float(v) for v in fields.get(key, ()))
-        for key in ("weight_error", "trajectory_error"):
+        for key in ("weight_error", "trajectory_error", "found_trajectory_error"):
             fields[key] = _float(fields.get(key))
         fields["features"] = tuple(fields.get("features", ()))
         fields["history"] = tuple(fields.get("history", ()))
@@ -148,7 +155,7 @@ def run_case(
     if not demo.solver.success:
         base["demo_features"] = {}  # a failed demonstration's features describe no optimum
         return _failed(base, f"the demonstration could not be solved ({demo.solver.status})")
-    observed = observe(demo.trajectory, cond.noise, np.random.default_rng([seed, NOISE_STREAM]))
+    observed = observe(demo.trajectory, cond.noise, np.random.default_rng([seed, NOISE_STREAM]), cond.torques)
     problem = IOCProblem(observed, cond.features, cond.ioc_params(params), cond.ioc_task(), seed=seed)
     t0 = time.perf_counter()
     try:
@@ -180,10 +187,18 @@ def failure(
     return _failed(base | {"config": dict(config or {})}, reason)
 
 
+def _family(algorithm: str) -> str:
+    try:
+        return get_algorithm(algorithm).family
+    except AlgorithmError:
+        return ""
+
+
 def _identity(algorithm: str, label: str, true3: np.ndarray, cond: Condition, seed: int) -> dict[str, Any]:
     """The fields naming a case and its truth, common to every record."""
     return {
         "algorithm": algorithm,
+        "family": _family(algorithm),
         "weight_set": label,
         "condition": cond.name,
         "seed": seed,
@@ -237,6 +252,7 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> C
         weights=tuple(float(x) for x in est),
         weight_error=weight_error(est, np.array(base["true_weights"])),
         trajectory_error=traj_err,
+        found_trajectory_error=_found(result),
         n_solves=problem.stats.forward_solves,
         wall_time=wall,
         history=tuple(h.to_dict() for h in result.history),
@@ -245,6 +261,14 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> C
         notes=dict(result.notes),
         scoring_status=regenerated.status,
     )
+
+
+def _found(result: IOCResult) -> float:
+    """The paper's trajectory error of the step the IOC found for its output (if it has one)."""
+    i = result.chosen_iteration
+    if i is None or not 0 <= i < len(result.history):
+        return float("nan")
+    return float(result.history[i].trajectory_error)
 
 
 def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: float | None = None) -> CaseResult:

@@ -1,9 +1,12 @@
 """Robustness conditions (SPEC section 4) as data: how what the IOC sees differs from the truth.
 
 A condition says at which speed the demonstration is made, and how the IOC's view differs:
-noise on the observed step, a different model (leg mass), a different task (speed), extra
-(distractor) features. Add a condition by adding a :class:`Condition` to
-:data:`CONDITIONS` (or :func:`register_condition`); the runner needs no change.
+noise on the observed step (and whether torques are measured at all), a different model
+(leg mass), a different task (speed), extra (distractor) features. Beyond the paper's
+single sizes, conditions along three axes (noise, leg-mass error, speed error) at several
+severities give robustness curves (``axis`` and ``severity``; the ``robustness`` suite).
+Add a condition by adding a :class:`Condition` to :data:`CONDITIONS` (or
+:func:`register_condition`); the runner needs no change.
 """
 
 from __future__ import annotations
@@ -27,6 +30,11 @@ class Condition:
         ioc_leg_mass: factor on the leg masses of the IOC's model (torso keeps total 1).
         ioc_speed: factor on the speed of the IOC's task.
         features: the features the IOC may weigh.
+        torques: whether the joint torques are measured (else the observation holds
+            positions and velocities only; algorithms get torques from their own model).
+        axis: the robustness axis the condition lies on (``noise``, ``mass``, ``speed``;
+            empty for none), for robustness curves.
+        severity: its signed size on that axis, percent (noise sigma, mass or speed error).
     """
 
     name: str
@@ -36,6 +44,9 @@ class Condition:
     ioc_leg_mass: float = 1.0
     ioc_speed: float = 1.0
     features: tuple[str, ...] = COST_FEATURES
+    torques: bool = True
+    axis: str = ""
+    severity: float = 0.0
 
     def demo_task(self) -> Task:
         return Task(self.demo_speed)
@@ -47,17 +58,72 @@ class Condition:
         return truth if self.ioc_leg_mass == 1.0 else truth.with_leg_mass_scale(self.ioc_leg_mass)
 
 
+def _noise(percent: float) -> Condition:
+    return Condition(
+        f"noise-{percent:g}",
+        f"observation + Gaussian noise, sigma {percent:g} % of each signal's span",
+        noise=percent / 100,
+        axis="noise",
+        severity=percent,
+    )
+
+
+def _mass(percent: float) -> Condition:
+    word = "heavier" if percent > 0 else "lighter"
+    return Condition(
+        f"mass{percent:+g}",
+        f"IOC model: legs {abs(percent):g} % {word}, torso keeps the total",
+        ioc_leg_mass=1 + percent / 100,
+        axis="mass",
+        severity=percent,
+    )
+
+
+def _speed(percent: float) -> Condition:
+    word = "faster" if percent > 0 else "slower"
+    return Condition(
+        f"speed{percent:+g}",
+        f"IOC task {abs(percent):g} % {word} than the demonstration",
+        ioc_speed=1 + percent / 100,
+        axis="speed",
+        severity=percent,
+    )
+
+
 CONDITIONS: dict[str, Condition] = {
     c.name: c
     for c in (
         Condition("ideal", "exact model, task and features"),
         Condition("ideal-fast", "exact, at the fast speed 0.34", demo_speed=FAST_SPEED),
-        Condition("noise", "observation + Gaussian noise, sigma 5 % of each signal's span", noise=0.05),
-        Condition("mass", "IOC model: legs 10 % heavier, torso lighter", ioc_leg_mass=1.1),
-        Condition("speed", "IOC task 10 % faster than the demonstration", ioc_speed=1.1),
+        Condition(
+            "noise",
+            "observation + Gaussian noise, sigma 5 % of each signal's span (torques too: the paper's reading)",
+            noise=0.05,
+            axis="noise",
+            severity=5,
+        ),
+        Condition(
+            "noise-kinematics",
+            "positions and velocities + 5 % noise; torques not measured (the IOC's own model supplies them)",
+            noise=0.05,
+            torques=False,
+        ),
+        Condition("mass", "IOC model: legs 10 % heavier, torso lighter", ioc_leg_mass=1.1, axis="mass", severity=10),
+        Condition("speed", "IOC task 10 % faster than the demonstration", ioc_speed=1.1, axis="speed", severity=10),
         Condition("distractor", "3 distractor features added (true weight 0)", features=ALL_FEATURES),
+        *(_noise(p) for p in (1, 2, 10)),
+        *(_mass(p) for p in (-20, -10, 20)),
+        *(_speed(p) for p in (-20, -10, 20)),
     )
 }
+#: The conditions of each robustness axis, by severity (ideal is severity 0 on every axis).
+AXES: tuple[str, ...] = ("noise", "mass", "speed")
+
+
+def axis_conditions(axis: str) -> list[Condition]:
+    """``ideal`` and every condition on ``axis``, by severity."""
+    on_axis = [c for c in CONDITIONS.values() if c.axis == axis]
+    return sorted([CONDITIONS["ideal"], *on_axis], key=lambda c: c.severity)
 
 
 def register_condition(condition: Condition) -> Condition:

@@ -2,7 +2,9 @@
 
 Never edit the written files by hand: ``ioc-bench leaderboard results/ --out leaderboards/``
 rewrites ``README.md`` (Markdown) and ``leaderboard.json`` from the results. With 3 or more
-seeds per case a 95 % bootstrap confidence interval of the mean weight error is given.
+seeds per case a 95 % bootstrap confidence interval of the mean weight error is given, over
+the cell's independent cases (:mod:`ioc_bench.bench.statistics`). Robustness-suite results
+add a table of robustness AUCs (:mod:`ioc_bench.bench.robustness`).
 
 Results of different configs of one algorithm never share a cell: a row is an algorithm
 with one config (its defaults, or ``[cfg <digest>]`` with the fields that differ listed
@@ -27,6 +29,8 @@ import numpy as np
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import CONDITIONS
 from ioc_bench.bench.results import result_config, run_label
+from ioc_bench.bench.robustness import auc_table
+from ioc_bench.bench.statistics import RESAMPLES, bootstrap_mean_ci
 from ioc_bench.fileio import atomic_write_many, json_text
 
 #: Minimum seeds per case for a bootstrap confidence interval.
@@ -51,6 +55,7 @@ class Cell:
     """
 
     algorithm: str
+    family: str
     label: str
     config: dict
     condition: str
@@ -60,6 +65,7 @@ class Cell:
     weight_error: float
     weight_error_ci: tuple[float, float] | None
     trajectory_error: float
+    found_trajectory_error: float
     wall_time: float
     forward_solves: float
     largest_recovered: int
@@ -69,16 +75,6 @@ class Cell:
 def _mean(values: Sequence[float]) -> float:
     arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
     return float(arr.mean()) if arr.size else float("nan")
-
-
-def _ci(values: Sequence[float], seed: int = 0) -> tuple[float, float] | None:
-    from scipy.stats import bootstrap
-
-    arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
-    if arr.size < 2 or np.ptp(arr) == 0:
-        return (float(arr.mean()), float(arr.mean())) if arr.size else None
-    res = bootstrap((arr,), np.mean, confidence_level=0.95, n_resamples=9999, rng=np.random.default_rng(seed))
-    return float(res.confidence_interval.low), float(res.confidence_interval.high)
 
 
 def penalised_is_largest(result: CaseResult) -> bool | None:
@@ -108,6 +104,7 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
         cells.append(
             Cell(
                 algorithm=rs[0].algorithm,
+                family=rs[0].family,
                 label=label,
                 config=result_config(rs[0]),
                 condition=cond,
@@ -115,8 +112,9 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 failures=len(rs) - len(ok),
                 seeds=tuple(sorted({r.seed for r in rs})),
                 weight_error=_mean([r.weight_error for r in ok]),
-                weight_error_ci=_ci([r.weight_error for r in ok]) if enough else None,
+                weight_error_ci=bootstrap_mean_ci([r.weight_error for r in ok]) if enough else None,
                 trajectory_error=_mean([r.trajectory_error for r in ok]),
+                found_trajectory_error=_mean([r.found_trajectory_error for r in ok]),
                 wall_time=_mean([r.wall_time for r in rs]),
                 forward_solves=_mean([r.n_solves for r in rs]),
                 largest_recovered=sum(checks),
@@ -156,20 +154,26 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         "regenerated from the result files, never edited by hand.",
         "",
         "**Method.** Each case runs one IOC algorithm on one demonstrated step: the best of 15 starts of the "
-        "trajectory optimizer for the true weights (multi-start seed 0), observed as the condition allows "
-        "(noise, wrong model, wrong task, distractor features; SPEC section 4). "
+        "trajectory optimizer for the true weights (multi-start seed = the case's seed), verified as a local "
+        "minimum, observed as the condition allows (noise, torques unmeasured, wrong model, wrong task, "
+        "distractor features; SPEC section 4; the observation holds positions, velocities and torques only). "
         "Weight error: mean |estimated - true| of the unit-norm weights over the features the IOC weighed. "
-        "Trajectory error: sum over knots and segments of squared angle and angular-velocity differences between "
-        "the estimated weights' optimal step (in the observation's basin) and the observed step. "
+        "Trajectory error (the paper's): sum over knots and segments of squared segment-angle and "
+        "angular-velocity differences to the observed step, of the estimated weights' optimal step re-solved in "
+        "the observation's basin (*re-solved*) and of the step the algorithm itself found for its output "
+        "(*found*, the paper's reading; n/a for methods without one). "
         "Time and forward solves are the algorithm's own (scoring excluded). Failed cases count in *failures* "
         "and are left out of the means.",
         "",
-        f"**Seeds:** {', '.join(map(str, seeds))} (per case: algorithm randomness and observation noise). "
+        f"**Seeds:** {', '.join(map(str, seeds))}. A seed is a new experiment: it re-solves the demonstration "
+        "from its own multi-start, draws its own observation noise and seeds the algorithm. "
         + (
-            "95 % bootstrap confidence intervals (scipy.stats.bootstrap, 9999 resamples) where every case has "
+            f"The 95 % interval is a percentile bootstrap ({RESAMPLES} resamples) of the mean weight error over a "
+            "cell's cases (weight sets x seeds), each an independent experiment; it covers the variation of a "
+            f"repeated study with these weight sets, not of other weight sets. Given where every weight set has "
             f"{MIN_SEEDS_FOR_CI}+ seeds."
             if any(c.weight_error_ci for c in cells)
-            else f"No confidence intervals: they need {MIN_SEEDS_FOR_CI}+ seeds per case; "
+            else f"No confidence intervals: they need {MIN_SEEDS_FOR_CI}+ seeds per weight set; "
             "this is a single run, so small differences are not significant."
         ),
         "",
@@ -177,19 +181,41 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         "",
         _configs_line(cells),
         "",
-        "| algorithm | condition | cases | weight error | 95 % CI | trajectory error | time (s) | forward solves "
-        "| penalised weight largest | failures |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| algorithm | family | condition | cases | weight error | 95 % CI | trajectory error (re-solved / found) "
+        "| time (s) | forward solves | penalised weight largest | failures |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in cells:
         ci = "" if c.weight_error_ci is None else f"[{_fmt(c.weight_error_ci[0])}, {_fmt(c.weight_error_ci[1])}]"
         largest = f"{c.largest_recovered}/{c.largest_checked}" if c.largest_checked else "-"
         lines.append(
-            f"| {c.label} | {c.condition} | {c.cases} | {_fmt(c.weight_error)} | {ci} | "
-            f"{_sci(c.trajectory_error)} | {c.wall_time:.1f} | {c.forward_solves:.1f} | {largest} | {c.failures} |"
+            f"| {c.label} | {c.family or '-'} | {c.condition} | {c.cases} | {_fmt(c.weight_error)} | {ci} | "
+            f"{_sci(c.trajectory_error)} / {_sci(c.found_trajectory_error)} | {c.wall_time:.1f} | "
+            f"{c.forward_solves:.1f} | {largest} | {c.failures} |"
         )
-    lines += ["", *_paper_comparison(cells), "", *_case_table(results)]
+    lines += ["", *_robustness(results), "", *_paper_comparison(cells), "", *_case_table(results)]
     return "\n".join(lines) + "\n"
+
+
+def _robustness(results: Sequence[CaseResult]) -> list[str]:
+    """The robustness AUC table (rows with a complete axis of the robustness suite)."""
+    table = auc_table(results)
+    if not table:
+        return []
+    lines = [
+        "## Robustness (beyond the paper)",
+        "",
+        "Mean weight error over each perturbation's severity range (area under the error-vs-severity curve "
+        "divided by the range; noise 0-10 % of span, leg-mass and speed errors -20..+20 %; `robustness` suite). "
+        "Lower is more robust; the curves with their intervals are in `figures/robustness.png`.",
+        "",
+        "| algorithm | noise | mass | speed | robustness AUC (mean) |",
+        "|---|---|---|---|---|",
+    ]
+    for label, row in sorted(table.items(), key=lambda kv: kv[1]["mean"]):
+        axes = " | ".join(_fmt(row.get(a, float("nan"))) for a in ("noise", "mass", "speed"))
+        lines.append(f"| {label} | {axes} | {_fmt(row['mean'])} |")
+    return lines
 
 
 def _paper_comparison(cells: Sequence[Cell]) -> list[str]:

@@ -9,7 +9,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ioc_bench.bench.conditions import CONDITIONS, get_condition, lookup, register
+from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.bench.results import CaseSpec
 from ioc_bench.checks import check_seed
 from ioc_bench.weights import WEIGHT_SETS, parse_weights
@@ -43,6 +43,11 @@ class Suite:
         ]
 
 
+#: The paper's conditions (SPEC section 4), and the torque-free reading of its noise.
+PAPER_CONDITIONS = ("ideal", "ideal-fast", "noise", "noise-kinematics", "mass", "speed", "distractor")
+#: Every condition on the robustness axes (ideal once), by axis then severity.
+ROBUSTNESS_CONDITIONS = tuple(dict.fromkeys(c.name for axis in AXES for c in axis_conditions(axis)))
+
 SUITES: dict[str, Suite] = {
     s.name: s
     for s in (
@@ -54,9 +59,9 @@ SUITES: dict[str, Suite] = {
         ),
         Suite(
             "paper",
-            "the paper's study: 4 weight sets x 6 conditions, one seed",
+            "the paper's study: 4 weight sets x its 6 conditions and noise-kinematics, one seed",
             weight_sets=tuple(WEIGHT_SETS),
-            conditions=tuple(CONDITIONS),
+            conditions=PAPER_CONDITIONS,
         ),
         Suite(
             "ideal",
@@ -72,10 +77,16 @@ SUITES: dict[str, Suite] = {
         ),
         Suite(
             "paper-3seeds",
-            "the paper's study with 3 seeds per case (bootstrap confidence intervals)",
+            "the paper's study with 3 seeds (each re-solves the demonstration, redraws noise and randomness)",
             weight_sets=tuple(WEIGHT_SETS),
-            conditions=tuple(CONDITIONS),
+            conditions=PAPER_CONDITIONS,
             seeds=(0, 1, 2),
+        ),
+        Suite(
+            "robustness",
+            "weight error against severity: noise 0-10 %, leg mass and speed errors -20..+20 % (4 weight sets)",
+            weight_sets=tuple(WEIGHT_SETS),
+            conditions=ROBUSTNESS_CONDITIONS,
         ),
     )
 }

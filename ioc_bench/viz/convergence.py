@@ -31,7 +31,7 @@ def draw_convergence(ax, result, legend: bool = True) -> None:
     if np.any(np.isfinite(err) & (err > 0)):
         ax2 = ax.twinx()
         ax2.semilogy(its, err, color="goldenrod", alpha=0.7, lw=2)
-        ax2.set_ylabel("trajectory error", color="goldenrod")
+        ax2.set_ylabel("trajectory error of the iteration's step", color="goldenrod")
     if legend and ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7, loc="upper right")
 

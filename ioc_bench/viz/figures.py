@@ -25,8 +25,9 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
 
 from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import CONDITIONS
+from ioc_bench.bench.conditions import AXES, CONDITIONS
 from ioc_bench.bench.results import load_results, no_results_message, run_slug
+from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 from ioc_bench.fileio import atomic_write_text
 from ioc_bench.table1 import markdown_table, pattern_summary
@@ -186,7 +187,7 @@ def _panel_title(case: CaseResult, prefix: str) -> str:
     if case.failed:
         body = "FAILED"
     else:
-        body = f"weight error {case.weight_error:.2g} | traj. error {case.trajectory_error:.2g}"
+        body = f"weight error {case.weight_error:.2g} | traj. error (re-solved) {case.trajectory_error:.2g}"
         if case.status != "converged":
             body += f" ({case.status})"
     return f"{prefix}: {body}" if prefix else body
@@ -437,7 +438,34 @@ def make_figures(
             if any(r.algorithm == alg and r.condition in conditions for r in results):
                 written[f"{name}_{alg}"] = plot(results, alg, out / f"{name}_{alg}.png")
     written["figure6"] = plot_figure6(results, out / "figure6.png")
+    if robustness_curves(results):
+        written["robustness"] = plot_robustness(results, out / "robustness.png")
     return written
+
+
+def plot_robustness(results: Sequence[CaseResult], path: str | os.PathLike) -> Path:
+    """Weight error against severity, one panel per axis, a line per algorithm with its interval."""
+    found = robustness_curves(results)
+    labels = sorted({c.label for c in found})
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), sharey=True)
+    for ax, axis in zip(axes, AXES):
+        for k, label in enumerate(labels):
+            curve = next((c for c in found if c.label == label and c.axis == axis), None)
+            if curve is None:
+                continue
+            color = _algorithm_color(k)
+            ax.plot(curve.severity, curve.mean, "o-", color=color, label=f"{label} (AUC {curve.auc:.3g})")
+            ax.fill_between(curve.severity, curve.low, curve.high, color=color, alpha=0.15)
+        unit = "noise sigma, % of each signal's span" if axis == "noise" else f"{axis} error of the IOC's model, %"
+        ax.set_xlabel(unit)
+        ax.set_title(f"{axis}: weight error against severity")
+        ax.set_yscale("symlog", linthresh=1e-3)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("mean weight error (95 % bootstrap over cases)")
+    fig.suptitle("Robustness curves (robustness suite; severity 0 is the ideal condition)", fontweight="bold")
+    fig.tight_layout()
+    return save_figure(fig, path)
 
 
 __all__ = [
@@ -447,6 +475,7 @@ __all__ = [
     "plot_figure4",
     "plot_figure5",
     "plot_figure6",
+    "plot_robustness",
     "select_results",
     "table1_markdown",
     "write_table1",

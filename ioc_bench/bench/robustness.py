@@ -1,0 +1,101 @@
+"""Robustness curves: weight error against the severity of each perturbation, and their area.
+
+The paper measures each perturbation at one size; users choosing a method need to know how
+fast it degrades. For every algorithm (and config) and robustness axis (noise, leg-mass
+error, speed error; :data:`~ioc_bench.bench.conditions.AXES`), the curve is the mean weight
+error at each severity (``ideal`` is severity 0 on every axis), with a 95 % bootstrap
+interval over the cases at that severity. The one-number summary of an axis is the area
+under its curve divided by the severity range it spans: the mean weight error over the
+range. An algorithm's robustness AUC is the mean of its axes' (complete axes only).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ioc_bench.bench.case import CaseResult
+from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition
+from ioc_bench.bench.results import run_label
+from ioc_bench.bench.statistics import bootstrap_mean_ci
+
+
+@dataclass(frozen=True)
+class Curve:
+    """Weight error along one axis for one row (algorithm with its config).
+
+    Attributes:
+        label: the row.
+        axis: the axis.
+        severity: (n,) severities, percent, ascending.
+        mean: (n,) mean weight error at each severity (failed cases left out).
+        low, high: (n,) its 95 % bootstrap interval over the cases at that severity.
+        cases: (n,) how many cases each point has.
+        complete: every condition of the axis has at least one successful case.
+    """
+
+    label: str
+    axis: str
+    severity: np.ndarray
+    mean: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    cases: np.ndarray
+    complete: bool
+
+    @property
+    def auc(self) -> float:
+        """Mean weight error over the severity range (area under the curve / range)."""
+        ok = np.isfinite(self.mean)
+        if ok.sum() < 2:
+            return float("nan")
+        s, m = self.severity[ok], self.mean[ok]
+        return float(np.trapezoid(m, s) / (s[-1] - s[0]))
+
+
+def curves(results: Sequence[CaseResult]) -> list[Curve]:
+    """Every (row, axis) curve the results have points for (at least two severities)."""
+    by: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
+    for r in results:
+        by[(run_label(r), r.condition)].append(r)
+    out = []
+    for label in sorted({k[0] for k in by}):
+        for axis in AXES:
+            conds = axis_conditions(axis)
+            points = [(c, [r for r in by.get((label, c.name), []) if not r.failed]) for c in conds]
+            present = [(c, rs) for c, rs in points if (label, c.name) in by]
+            if len(present) < 2 or all(c.name == "ideal" for c, _ in present):
+                continue
+            errors = [[r.weight_error for r in rs] for _, rs in present]
+            cis = [bootstrap_mean_ci(e) for e in errors]
+            out.append(
+                Curve(
+                    label=label,
+                    axis=axis,
+                    severity=np.array([c.severity for c, _ in present], dtype=float),
+                    mean=np.array([np.mean(e) if e else np.nan for e in errors]),
+                    low=np.array([ci[0] if ci else np.nan for ci in cis]),
+                    high=np.array([ci[1] if ci else np.nan for ci in cis]),
+                    cases=np.array([len(e) for e in errors]),
+                    complete=len(present) == len(conds) and all(rs for _, rs in present),
+                )
+            )
+    return out
+
+
+def auc_table(results: Sequence[CaseResult]) -> dict[str, dict[str, float]]:
+    """Row -> {axis: AUC, ..., "mean": mean over complete axes} for rows with complete axes."""
+    table: dict[str, dict[str, float]] = defaultdict(dict)
+    for curve in curves(results):
+        if curve.complete:
+            table[curve.label][curve.axis] = curve.auc
+    for row in table.values():
+        row["mean"] = float(np.mean([row[a] for a in AXES if a in row]))
+    return dict(table)
+
+
+def is_robustness_condition(name: str) -> bool:
+    return bool(get_condition(name).axis) or name == "ideal"
