@@ -1,4 +1,4 @@
-"""``ioc-bench algorithms``: the registered IOC algorithms, one line each."""
+"""``ioc-bench algorithms``: the registered IOC algorithms, grouped by family, one line each."""
 
 from __future__ import annotations
 
@@ -15,18 +15,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.ioc.registry import PluginWarning, describe_algorithms
+    from ioc_bench.ioc.registry import PluginWarning, describe_algorithms, get_algorithm
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", PluginWarning)
         described = describe_algorithms()
     problems = [str(w.message) for w in caught if issubclass(w.category, PluginWarning)]
+    families = {name: get_algorithm(name).family for name in described}
     if args.json:
-        print_json({"algorithms": described, "skipped_plugins": problems})
+        print_json({"algorithms": described, "families": families, "skipped_plugins": problems})
         return 0
     width = max((len(n) for n in described), default=0)
-    for name, text in described.items():
-        print(f"{name:<{width}}  {text}")
+    for family in sorted(set(families.values())):
+        print(f"{family}:")
+        for name, text in described.items():
+            if families[name] == family:
+                print(f"  {name:<{width}}  {text}")
     for message in problems:
         print(f"warning: {message}")
     return 0
