@@ -189,6 +189,40 @@ def plot(rows: list[dict], path: Path) -> Path:
     return path
 
 
+def tables(rows: list[dict]) -> str:
+    """The sweep as Markdown: one table per (lift-off, weighting), both speeds."""
+    paper = {"hip": 0.0975, "knee": 0.0809, "dtau": 0.0142}
+    out = []
+    for liftoff, units in itertools.product(("paper", "relaxed"), ("g", "dimensionless")):
+        out += [
+            f"### {liftoff} lift-off, nominal weights on {'g-unit' if units == 'g' else 'dimensionless'} features",
+            "",
+            "| speed | held step | per-step sums hip / knee / dtau (g-units; ratio to the paper) | cost per step "
+            "| cost per time | duration | cadence (0.9 m leg) | max / mid-swing foot height | active bounds "
+            "(not idle) | released: per-step cost | released: per-time cost |",
+            "|---|---|---|---|---|---|---|---|---|---|---|",
+        ]
+        for r in rows:
+            if (r["liftoff"], r["units"]) != (liftoff, units):
+                continue
+            if "features" not in r:
+                out.append(f"| {r['speed']} | {r['held_step']} | no feasible start | | | | | | | | |")
+                continue
+            f, s = r["figures"], r["per_step_g"]
+            feats = " / ".join(f"{s[k]:.3g} ({s[k] / paper[k]:.2f})" for k in ("hip", "knee", "dtau"))
+            active = {k: v for kind in ("physical", "artificial") for k, v in f["active"][kind].items()}
+            act = ", ".join(f"{k} {v}" for k, v in active.items()) or "-"
+            rel = [r[f"released_{c}"] for c in ("per-step", "per-time")]
+            rel_txt = [f"{x['step_length']:.3f}" if x.get("success") else x["status"] for x in rel]
+            out.append(
+                f"| {r['speed']} | {r['held_step']} | {feats} | {r['cost_per_step']:.3g} | {r['cost_per_time']:.3g} "
+                f"| {f['duration']:.2f} | {f['cadence']:.0f} | {f['max_clearance']:.3f} / "
+                f"{f['mid_swing_min_clearance']:.4f} | {act} | {rel_txt[0]} | {rel_txt[1]} |"
+            )
+        out.append("")
+    return "\n".join(out)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", type=Path, default=Path("docs/data/gait_regime.json"))
@@ -196,7 +230,11 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--plot", type=Path, help="only plot this JSON")
     ap.add_argument("--figure", type=Path, default=Path("docs/figures/gait_regime.png"))
+    ap.add_argument("--tables", type=Path, help="only print the Markdown tables of this JSON")
     args = ap.parse_args()
+    if args.tables:
+        print(tables(json.loads(args.tables.read_text())))
+        return
     if args.plot:
         print(plot(json.loads(args.plot.read_text()), args.figure))
         return
