@@ -24,11 +24,13 @@ def signal_spans(step: Signals, n_actuators: int | None = None) -> np.ndarray:
     """(n,) span (max - min) of every signal of ``step``, floored to stay positive (1 where
     the signal is missing)."""
     sig = step.signals(n_actuators)
-    with np.errstate(invalid="ignore"):
-        span = np.nanmax(sig, axis=0) - np.nanmin(sig, axis=0) if np.isfinite(sig).any() else np.ones(sig.shape[1])
-    span = np.where(np.isfinite(span), span, np.nan)
-    floor = 1e-3 * max(float(np.nanmax(span, initial=0.0)), 1e-12)
-    return np.where(np.isfinite(span), np.maximum(span, floor), 1.0)
+    measured = np.isfinite(sig).all(axis=0)
+    span = np.ones(sig.shape[1])
+    if measured.any():
+        seen = sig[:, measured]
+        raw = seen.max(axis=0) - seen.min(axis=0)
+        span[measured] = np.maximum(raw, 1e-3 * max(float(raw.max()), 1e-12))
+    return span
 
 
 def tracking_terms(target: Signals, strength: float, spans: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
