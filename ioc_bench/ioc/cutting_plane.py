@@ -119,7 +119,7 @@ class PlainForward:
     primal-dual point: the solve begins exactly there) or ``"cold"`` (its values with the
     cold-start settings), keeping the best of ``starts`` (the paper's multi-start: 15)."""
 
-    start: str = "cold"
+    start: str = "warm"
     starts: int = 1
 
     def __call__(self, problem, w, start, phi_ref, cut_threshold) -> tuple[OracleSolution, dict[str, Any]]:

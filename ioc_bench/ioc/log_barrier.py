@@ -37,9 +37,11 @@ class LogBarrierConfig:
         lower, upper: weight bounds (the paper's 0.001 and 0.999).
         forward_start: forward solves start at the projected observation ``"warm"`` (its
             primal-dual point: they begin exactly there) or ``"cold"`` (its values with the
-            cold-start settings, whose bound push moves them).
+            cold-start settings, whose bound push moves them). Measured on the ideal suite
+            (docs/ioc.md): warm 0.0010 mean weight error in 19 s a case, cold 0.0115 in 53 s.
         forward_starts: forward solves also try this many - 1 rough guesses with noise and
-            keep the cheapest feasible step (the paper's multi-start: 15).
+            keep the cheapest feasible step (the paper's multi-start: 15; measured: worse
+            and 40x slower, the cheapest of 15 starts jumps between basins).
         cut_threshold: a sample whose features differ from x*'s by less than this (relative)
             is x* again, not a suboptimal sample.
     """
@@ -51,7 +53,7 @@ class LogBarrierConfig:
     offset: float = 1.5
     lower: float = 0.001
     upper: float = 0.999
-    forward_start: str = "cold"
+    forward_start: str = "warm"
     forward_starts: int = 1
     cut_threshold: float = 1e-6
 

@@ -167,7 +167,8 @@ class IOCProblem:
                 instead, with ``D`` the :meth:`tracking_error`: a proximal step meant to
                 stay in the anchor's basin. Started at the anchor it normally returns a step
                 no costlier than the anchor under ``w``, but IPOPT can still wander: check.
-            anchor: the proximal term's centre (default: the observed step).
+            anchor: the proximal term's centre (default: the observed step; its projection
+                if the observation has no torques).
             starts: also solve from ``starts - 1`` rough periodic guesses with noise (the
                 paper's multi-start, seeded from the problem's seed) and keep the cheapest
                 feasible result. Every solve counts as a forward solve.
@@ -180,7 +181,8 @@ class IOCProblem:
         w = full_weights(unit_w, self.features, self._solver.nlp.features)
         ref = track = None
         if proximal > 0:
-            anchor = self.observed if anchor is None else anchor
+            if anchor is None:
+                anchor = self.observed if self.observed.tau is not None else self.reference().trajectory
             cost = float(unit_w @ self.features_of(anchor))
             ref, track = tracking_terms(anchor, OBJECTIVE_SCALE * proximal * cost, self._spans)
         points = [self._start(start), *self._guesses(starts - 1)]
