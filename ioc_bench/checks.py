@@ -49,6 +49,8 @@ def coerce(value: Any, hint: Any, nonfinite: bool = False) -> Any:
     if hint is Any or hint is object:
         return value
     if origin in (typing.Union, types.UnionType):
+        if value is None and type(None) in args:
+            return None  # an optional value that is absent (not a NaN stored as null)
         for option in args:
             try:
                 return coerce(value, option, nonfinite)

@@ -50,7 +50,7 @@ class CaseResult:
             velocities, SPEC section 5) of the estimated weights' optimal step, re-solved in
             the observation's basin for scoring.
         found_trajectory_error: the paper's own reading: the trajectory error of the step
-            found during the IOC for the output weights (its chosen iteration); NaN for an
+            found during the IOC for the output weights (its chosen iteration); None for an
             algorithm without such a step.
         n_solves: forward solves (trajectory optimizations) the algorithm asked for.
         wall_time: seconds the algorithm ran.
@@ -82,7 +82,7 @@ class CaseResult:
     scoring_status: str = ""
     demo_features: dict[str, float] = field(default_factory=dict)
     demo_speed: float = 0.0
-    found_trajectory_error: float = float("nan")
+    found_trajectory_error: float | None = None
     family: str = ""
     version: str = __version__
 
@@ -99,7 +99,7 @@ class CaseResult:
         fields = dict(data)
         for key in ("weights", "true_weights"):
             fields[key] = tuple(_float(v) for v in fields.get(key, ()))
-        for key in ("weight_error", "trajectory_error", "found_trajectory_error"):
+        for key in ("weight_error", "trajectory_error"):
             fields[key] = _float(fields.get(key))
         fields["features"] = tuple(fields.get("features", ()))
         fields["history"] = tuple(fields.get("history", ()))
@@ -263,12 +263,13 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> C
     )
 
 
-def _found(result: IOCResult) -> float:
+def _found(result: IOCResult) -> float | None:
     """The paper's trajectory error of the step the IOC found for its output (if it has one)."""
     i = result.chosen_iteration
     if i is None or not 0 <= i < len(result.history):
-        return float("nan")
-    return float(result.history[i].trajectory_error)
+        return None
+    error = float(result.history[i].trajectory_error)
+    return error if np.isfinite(error) else None
 
 
 def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: float | None = None) -> CaseResult:

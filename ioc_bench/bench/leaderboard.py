@@ -114,7 +114,9 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 weight_error=_mean([r.weight_error for r in ok]),
                 weight_error_ci=bootstrap_mean_ci([r.weight_error for r in ok]) if enough else None,
                 trajectory_error=_mean([r.trajectory_error for r in ok]),
-                found_trajectory_error=_mean([r.found_trajectory_error for r in ok]),
+                found_trajectory_error=_mean(
+                    [r.found_trajectory_error for r in ok if r.found_trajectory_error is not None]
+                ),
                 wall_time=_mean([r.wall_time for r in rs]),
                 forward_solves=_mean([r.n_solves for r in rs]),
                 largest_recovered=sum(checks),

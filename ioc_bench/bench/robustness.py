@@ -56,8 +56,12 @@ class Curve:
         return float(np.trapezoid(m, s) / (s[-1] - s[0]))
 
 
+#: A curve needs this many severities (ideal included): two points are just a condition.
+MIN_POINTS = 3
+
+
 def curves(results: Sequence[CaseResult]) -> list[Curve]:
-    """Every (row, axis) curve the results have points for (at least two severities)."""
+    """Every (row, axis) curve the results have points for (at least :data:`MIN_POINTS`)."""
     by: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
     for r in results:
         by[(run_label(r), r.condition)].append(r)
@@ -67,7 +71,7 @@ def curves(results: Sequence[CaseResult]) -> list[Curve]:
             conds = axis_conditions(axis)
             points = [(c, [r for r in by.get((label, c.name), []) if not r.failed]) for c in conds]
             present = [(c, rs) for c, rs in points if (label, c.name) in by]
-            if len(present) < 2 or all(c.name == "ideal" for c, _ in present):
+            if len(present) < MIN_POINTS:
                 continue
             errors = [[r.weight_error for r in rs] for _, rs in present]
             cis = [bootstrap_mean_ci(e) for e in errors]

@@ -59,7 +59,8 @@ def test_written_files_state_method_seeds_and_versions(results_dir, tmp_path):
     md_path, json_path = write_leaderboard(load_results(results_dir), out, source="results/")
     md = md_path.read_text()
     assert "never edited by hand" in md and "**Method.**" in md and "**Seeds:** 0, 1, 2" in md
-    assert "casadi" in md and "95 % bootstrap" in md and "| algo | ideal | 6 |" in md
+    assert "casadi" in md and "percentile bootstrap" in md and "| algo | - | ideal | 6 |" in md
+    assert "each an independent experiment" in md  # the header says what the interval covers
     data = json.loads(json_path.read_text())
     assert {c["condition"] for c in data["cells"]} == {"ideal", "noise", "mass"}
     assert len(data["cases"]) == 13
@@ -93,7 +94,7 @@ def test_configs_never_share_a_cell_and_the_header_names_each(tmp_path, make_res
     md = markdown(load_results(tmp_path))
     assert "`log-barrier`: the algorithm's defaults" in md
     assert '`log-barrier [cfg 05519c9f]`: defaults except `{"max_iterations": 2, "n_random": 1}`' in md
-    assert "| log-barrier | ideal | 1 |" in md and "| log-barrier [cfg 05519c9f] | ideal | 1 |" in md
+    assert "| log-barrier | - | ideal | 1 |" in md and "| log-barrier [cfg 05519c9f] | - | ideal | 1 |" in md
 
 
 def test_the_two_files_are_written_together_or_not_at_all(results_dir, tmp_path, monkeypatch):

@@ -43,6 +43,7 @@ def test_auc_is_the_mean_error_over_the_severity_range():
 
 
 def test_an_incomplete_axis_has_no_auc():
-    results = [_result("ideal", 0.0), _result("noise-1", 0.01)]
+    results = [_result("ideal", 0.0), _result("noise-1", 0.01), _result("noise-2", 0.02)]
     assert auc_table(results) == {}
     assert len(curves(results)) == 1  # the curve is still drawn
+    assert curves(results[:2]) == []  # two points are a condition, not a curve

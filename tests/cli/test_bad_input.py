@@ -128,7 +128,7 @@ def C(id: str, source: str, line: str, expect: str, code: int = 2, hold: str = "
 CASES: list[Case] = [
     # tracebacks
     C("ioc-config-negative", ISSUE, 'ioc --config {"n_random":-1}', "n_random must be >= 0"),
-    C("ioc-config-choice", ISSUE, 'ioc --config {"objective":"nope"}', "objective must be one of"),
+    C("ioc-config-choice", ISSUE, 'ioc --config {"forward_start":"nope"}', "forward_start must be 'warm' or 'cold'"),
     C("ioc-seed-negative", ISSUE, "ioc --seed -1", "must be >= 0"),
     C("gait-seed-negative", ISSUE, "gait --seed -1", "must be >= 0"),
     C("ioc-out-under-file", ISSUE, "ioc --out {file}/r.json", "cannot create {file}/r.json: {file} is not a dir"),
@@ -156,8 +156,13 @@ CASES: list[Case] = [
     C("ioc-config-unknown-field", ISSUE, 'ioc --config {"nope":1}', "unknown field(s) nope"),
     # added
     C("ioc-config-float-for-int", ADDED, 'ioc --config {"n_random":1.5}', "n_random must be an integer"),
-    C("ioc-config-text-for-bool", ADDED, 'ioc --config {"scale_features":"no"}', "must be true or false"),
-    C("ioc-config-bad-list", ADDED, 'ioc --config {"proximal":[1,"x"]}', "must be a list of finite numbers"),
+    C("ioc-config-number-for-text", ADDED, 'ioc --config {"forward_start":3}', "must be a string"),
+    C(
+        "ioc-config-bad-list",
+        ADDED,
+        'ioc --algorithm analytic-center --config {"proximal":[1,"x"]}',
+        "must be a list of finite numbers",
+    ),
     C("ioc-config-nan", ADDED, 'ioc --config {"perturbation":NaN}', "must be a finite number"),
     C("ioc-config-not-object", ADDED, "ioc --config [1,2]", "must be a JSON object"),
     C("run-config-bool-for-int", ADDED, 'run --config {"n_random":true}', "n_random must be an integer"),

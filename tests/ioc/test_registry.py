@@ -105,12 +105,11 @@ def test_builtins_survive_their_module_being_imported_elsewhere(monkeypatch):
     ("config", "message"),
     [
         ({"n_random": -1}, "n_random must be >= 0"),
-        ({"objective": "nope"}, "objective must be one of"),
+        ({"forward_start": "nope"}, "forward_start must be 'warm' or 'cold'"),
         ({"nope": 1}, r"unknown field\(s\) nope; fields: n_random"),
         ({"n_random": 1.5}, "n_random must be an integer, got 1.5"),
         ({"n_random": True}, "n_random must be an integer, got True"),
-        ({"scale_features": "no"}, "scale_features must be true or false"),
-        ({"proximal": [1, "x"]}, "proximal must be a list of finite numbers"),
+        ({"forward_start": 3}, "forward_start must be a string"),
         ({"perturbation": float("nan")}, "perturbation must be a finite number"),
     ],
 )
@@ -121,8 +120,10 @@ def test_configs_are_checked_against_their_types_and_rules(config, message):
 
 
 def test_json_forms_are_accepted_and_converted():
-    algo = ioc_bench.make_algorithm("log-barrier", proximal=[1, 2], perturbation=1)
+    algo = ioc_bench.make_algorithm("analytic-center", proximal=[1, 2], perturbation=1)
     assert algo.config.proximal == (1.0, 2.0) and isinstance(algo.config.perturbation, float)
+    with pytest.raises(registry.AlgorithmError, match="proximal must be a list of finite numbers"):
+        ioc_bench.make_algorithm("analytic-center", proximal=[1, "x"])
 
 
 def test_canonical_config_keeps_only_what_differs_from_the_defaults():
