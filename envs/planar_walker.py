@@ -1,4 +1,4 @@
-"""``IOCBench/PlanarWalker-v1``: the ioc-bench walker as a Gymnasium environment."""
+"""``IOCBench/PlanarWalker-v2``: the ioc-bench walker as a Gymnasium environment."""
 
 from __future__ import annotations
 
@@ -11,9 +11,16 @@ import numpy as np
 from gymnasium import spaces, utils
 
 from envs.coordinates import to_generalized
-from envs.heel_strikes import StanceTracker
+from envs.heel_strikes import StanceTracker, landing_distance
 from envs.observation import observation_names
-from envs.physics import DEFAULT_CONTACT, HealthyRange, build_model, foot_in_contact
+from envs.physics import (
+    DEFAULT_CONTACT,
+    HealthyRange,
+    build_model,
+    foot_geoms,
+    give_feet_priority,
+    set_stance_friction,
+)
 from envs.rendering import RENDERER_CHOICES, make_renderer
 from envs.state import WalkerState
 from ioc_bench.demo import Demonstration
@@ -270,6 +277,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self.reset_noise_scale = float(reset_noise_scale)
         self.exclude_x = bool(exclude_current_positions_from_observation)
         self.model = build_model(self.params, contact or DEFAULT_CONTACT)
+        give_feet_priority(self.model)
         self.data = mujoco.MjData(self.model)
         self.render_mode, self.width, self.height, self.renderer = render_mode, int(width), int(height), renderer
         #: The renderer drawing the frames ("mujoco" or "stick"); None before the first render.
@@ -277,7 +285,9 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self._drawer: Any = None
         self._prev_torque: np.ndarray | None = None
         self._stance = StanceTracker()
+        set_stance_friction(self.model, self._stance.stance_leg)
         self._feet = {leg: self.model.site(f"foot_{leg}").id for leg in LEGS}
+        self._foot_geoms = foot_geoms(self.model)
         #: The noiseless standing start: straight legs, hip one leg length above the feet, at rest.
         self.init_qpos = np.array([0.0, self.params.leg_length, 0.0, 0.0, 0.0, 0.0, 0.0])
         self.init_qvel = np.zeros(self.model.nv)
@@ -313,6 +323,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
             swing_lifted=self._stance.swing_lifted,
             heel_strikes=self._stance.heel_strikes,
             weights=self.weights.copy(),
+            landing_distance=self._stance.landing_distance,
         )
 
     def set_state(self, state: WalkerState | np.ndarray, qvel: np.ndarray | None = None) -> None:
@@ -338,10 +349,11 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         size = mujoco.mj_stateSize(self.model, _PHYSICS_STATE)
         if state.physics.shape != (size,):
             raise ValueError(f"the snapshot's physics state has {state.physics.shape[0]} numbers, this model's {size}")
+        self._stance = StanceTracker(state.stance_leg, state.swing_lifted, state.heel_strikes, state.landing_distance)
+        set_stance_friction(self.model, self._stance.stance_leg)
         mujoco.mj_setState(self.model, self.data, np.array(state.physics), _PHYSICS_STATE)
         mujoco.mj_forward(self.model, self.data)
         self._prev_torque = None if state.previous_torque is None else np.array(state.previous_torque)
-        self._stance = StanceTracker(state.stance_leg, state.swing_lifted, state.heel_strikes)
         self.weights = np.array(state.weights)
 
     def __getstate__(self) -> dict[str, Any]:
@@ -374,10 +386,11 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
             stance = LEGS[0]
         else:
             qpos, qvel, stance = self._standing_state()
+        self._stance = StanceTracker(stance, landing_distance=landing_distance(demo))
+        set_stance_friction(self.model, stance)
         self.data.qpos[:], self.data.qvel[:] = qpos, qvel
         mujoco.mj_forward(self.model, self.data)
         self._prev_torque = None
-        self._stance = StanceTracker(stance)
         self.weights = self._episode_weights(demo)
         info = {
             "x_position": float(self.data.qpos[0]),
@@ -424,17 +437,28 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         torque = self._checked_torque(action)
         x_before = float(self.data.qpos[0])
         self.data.ctrl[:] = torque
-        mujoco.mj_step(self.model, self.data, nstep=self.frame_skip)
+        for _ in range(self.frame_skip):
+            mujoco.mj_step(self.model, self.data)
+            self._gait_events()
         x_after = float(self.data.qpos[0])
         info = self._reward_terms(torque, x_before, x_after)
         reward = float(sum(info[k] for k in REWARD_TERMS))
         self._prev_torque = torque
-        contact = {leg: info[f"contact_{leg}"] for leg in LEGS}
-        self._stance.update(contact, {leg: float(self.data.site_xpos[site][0]) for leg, site in self._feet.items()})
         info["stance_leg"], info["heel_strikes"] = self._stance.stance_leg, self._stance.heel_strikes
         fell = self.healthy.fall_reason(self.data.qpos) is not None
         terminated = bool(fell and self.terminate_when_unhealthy)
         return self._get_obs(), reward, terminated, False, info
+
+    def _feet_in_contact(self) -> dict[str, bool]:
+        """Leg -> whether its foot touches the floor (MuJoCo's contacts of the last physics step)."""
+        geoms = self.data.contact.geom[: self.data.ncon]
+        return {leg: bool(np.any(geoms == gid)) for leg, gid in self._foot_geoms.items()}
+
+    def _gait_events(self) -> None:
+        """After each physics step: lift-off and landing of the swing foot; friction follows the roles."""
+        foot_x = {leg: float(self.data.site_xpos[site][0]) for leg, site in self._feet.items()}
+        if self._stance.update(self._feet_in_contact(), foot_x):
+            set_stance_friction(self.model, self._stance.stance_leg)
 
     def _checked_torque(self, action: np.ndarray) -> np.ndarray:
         """The action as float64 motor torques, clipped to the bound; ValueError if malformed."""
@@ -456,7 +480,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
             info[f"reward_{name}"] = -self.cost_scale * float(w) * phi[name]
         info |= {f"phi_{name}": value for name, value in phi.items()}
         info |= {"x_position": x_after, "x_velocity": (x_after - x_before) / dt}
-        info |= {f"contact_{leg}": foot_in_contact(self.model, self.data, leg) for leg in LEGS}
+        info |= {f"contact_{leg}": touching for leg, touching in self._feet_in_contact().items()}
         return info
 
     # -- rendering ------------------------------------------------------------------------

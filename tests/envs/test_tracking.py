@@ -13,7 +13,7 @@ from envs.reference import Reference
 from envs.tracking import PDGains, TrackingPolicy
 from ioc_bench import Demonstration
 
-ENV_ID = "envs:IOCBench/PlanarWalker-v1"
+ENV_ID = "envs:IOCBench/PlanarWalker-v2"
 
 
 def _walk(env: PlanarWalkerEnv, policy: TrackingPolicy, steps: int, limit: int = 5000) -> tuple[list[float], dict]:
