@@ -56,9 +56,31 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     policy and an IRL method can be scored on the weights.
 
     Physics: MuJoCo RK4 steps of 0.002 (as Walker2d-v5), 5 per action, so `dt` = 0.01;
-    soft point-foot contact with friction and the knee limit as the passive knee-lock
+    soft point-foot contact and the knee limit as the passive knee-lock
     (`ioc_bench.model.mjcf`). The step size was measured against 0.0005 (`ContactSettings`'
     default): docs/environment.md.
+
+    Feet and ground follow the trajectory optimizer's model, not plain MuJoCo. There the
+    ground holds the stance foot (a pin inside the friction cone) and takes the landing at
+    heel strike, and never acts on the swing foot, which may touch the ground at height 0
+    mid-swing with no force; the benchmark's optimal steps do (they graze the ground
+    mid-swing and set the swing foot down with zero velocity). In plain MuJoCo such a
+    graze is a scuff with friction (on the nominal step a braking force of 6.5 body
+    weights for one physics step, unloading the stance foot) and was counted as a heel
+    strike. So, unlike plain MuJoCo:
+    - only the **stance** foot has friction (coefficient `params.friction`, pyramidal
+      cone, MuJoCo `condim` 3); the **swing** foot's contact is frictionless (`condim` 1:
+      the floor still holds it up, it cannot drag it). The feet have contact priority over
+      the floor, so each foot's own `condim` decides. The two swap at every heel strike.
+    - a **heel strike** is the swing foot, off the floor since the last one, touching the
+      floor more than the episode's *landing distance* ahead of the stance foot:
+      3/4 of the demonstration's step length when the episode started from one
+      (`envs.heel_strikes.LANDING_FRACTION`), 0 (anywhere ahead) for a standing start.
+      Nearer touchdowns are grazes: they are not counted and the roles stay.
+    - gait events (lift-off, heel strike, and with them the friction) are checked after
+      every physics step, not once per action.
+    Everything else (masses, joints, knee limit, the floor's position and softness) is the
+    generated model's. docs/environment.md, "Grazing swing feet", has the measurements.
 
     Legs are physical (`a`, `b`); a demonstration's stance leg is leg `a` after a reset
     from it. `envs.TrackingPolicy(demonstration)` turns a demonstration into actions
@@ -134,9 +156,10 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     `info` also carries each raw increment (`phi_hip`, `phi_knee`, `phi_dtau`), the hip's
     `x_position` and `x_velocity`, which feet touch the floor (`contact_a`, `contact_b`),
     the leg in the stance role (`stance_leg`, "a" or "b") and the heel strikes since the
-    reset (`heel_strikes`). A heel strike is the swing foot touching the floor ahead of
-    the stance foot after having left it (checked at the end of every step); the roles
-    then swap. `reset`'s `info` has `x_position`, `stance_leg`, `heel_strikes` and
+    reset (`heel_strikes`). A heel strike is the swing foot landing (see Description: it
+    touches the floor beyond the landing distance ahead of the stance foot after having
+    left it; checked after every physics step); the roles, and the feet's friction, then
+    swap. `reset`'s `info` has `x_position`, `stance_leg`, `heel_strikes` and
     `reward_weights`.
 
     ## Starting State
@@ -144,14 +167,16 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     above the feet) and `init_qvel` (0) plus uniform noise in $[-\epsilon, \epsilon]$
     ($\epsilon$ = `reset_noise_scale`) on every joint angle (knee flexions take its absolute
     value, so they stay in range) and on every velocity; the walker is then lowered onto
-    its lowest foot, whose leg is the stance leg.
+    its lowest foot, whose leg is the stance leg (the other foot is frictionless); the
+    landing distance is 0.
     With a demonstration (the `demonstration` argument, or `reset(options={"demonstration":
     demo})` for one reset; `options={"demonstration": None}` for a standing start):
     exactly the demonstration's initial state (knot 0, just after heel strike), leg `a` in
-    stance, no noise. A `Demonstration` or a path to one; its segment lengths must match
-    the environment's (masses may differ: that is the "wrong model" check). Vector
-    environments reset finished episodes without options, so give the demonstration as
-    an argument there (`gymnasium.make_vec(..., demonstration=demo)`).
+    stance, no noise; the landing distance is 3/4 of its step length. A `Demonstration`
+    or a path to one; its segment lengths must match the environment's (masses may
+    differ: that is the "wrong model" check). Vector environments reset finished episodes
+    without options, so give the demonstration as an argument there
+    (`gymnasium.make_vec(..., demonstration=demo)`).
 
     ## Episode End
     ### Termination
@@ -164,14 +189,15 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     ## State
     `get_state()` returns a `WalkerState`: MuJoCo's integration state (time, `qpos`,
     `qvel`, the solver's warm start, controls, applied forces) and the environment's own
-    (previous torque, stance leg, heel-strike bookkeeping, reward weights).
+    (previous torque, stance leg, which also sets the feet's friction, heel-strike
+    bookkeeping and landing distance, reward weights).
     `set_state(state)` restores it exactly: the next `step` gives bit-for-bit the same
     result. As in Gymnasium's `MujocoEnv`, `set_state(qpos, qvel)` sets positions and
     velocities only, and `state_vector()` is `concatenate([qpos, qvel])`. Pickling and
     `copy.deepcopy` carry the state and the random generator along.
 
     ## Arguments
-    `gymnasium.make("envs:IOCBench/PlanarWalker-v1", **kwargs)` (or `import envs` first).
+    `gymnasium.make("envs:IOCBench/PlanarWalker-v2", **kwargs)` (or `import envs` first).
 
     | Parameter                  | Type              | Default       | Description                                  |
     |----------------------------|-------------------|---------------|----------------------------------------------|
@@ -202,6 +228,13 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     figure's: see docs/environment.md.
 
     ## Version History
+    * v2: contact as in the trajectory optimizer's model: the swing foot is frictionless
+      and the stance foot keeps the friction, swapping at heel strikes; a heel strike
+      needs the touchdown to be beyond the landing distance (3/4 of the demonstration's
+      step) ahead of the stance foot, so mid-swing grazes are not counted; gait events
+      are checked after every physics step (v1: plain MuJoCo contact, both feet with
+      friction, any touchdown ahead counted, checked once per action). The state carries
+      the landing distance.
     * v1: physics steps of 0.002 with `frame_skip` 5 (v0: 0.0005 and 20; `dt` is still
       0.01), about 2.5x the steps per second; observations no longer clipped (velocities
       were clipped at +-10 and angles at +-pi) and extended by the previous torque (17
