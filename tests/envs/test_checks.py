@@ -66,6 +66,9 @@ def test_closed_loop_walks_ten_steps_mostly_on_feed_forward(nominal_demo, nomina
     assert durations == pytest.approx(np.full(10, nominal_demo.trajectory.duration), rel=0.1)
     # The stance foot stays on the floor (measured: at every control step).
     assert cl.stance_contact > 0.95
+    # The swing foot grazes the ground mid-swing (as the demonstration's does), and no graze
+    # was taken for a heel strike (ten strikes, ten steps of the demonstration's duration).
+    assert cl.grazes >= 1
 
 
 def test_feedback_share_is_the_documented_ratio(nominal_closed_loop):
