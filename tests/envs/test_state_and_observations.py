@@ -117,10 +117,13 @@ def test_state_round_trip_keeps_the_gait_bookkeeping(nominal_demo: Demonstration
         assert not terminated
     snapshot = env.get_state()
     assert snapshot.stance_leg == "b" and snapshot.heel_strikes == 1
+    assert snapshot.landing_distance > 0  # from the demonstration's step length
     action = policy(obs, info)
     first = env.step(action)
-    fresh = PlanarWalkerEnv()
+    fresh = PlanarWalkerEnv()  # a standing start: landing distance 0, leg a's foot with friction
     fresh.set_state(snapshot)
+    assert fresh.get_state().landing_distance == snapshot.landing_distance
+    assert np.array_equal(fresh.model.geom_condim, env.model.geom_condim)  # leg b's foot has the friction now
     _same_step(first, fresh.step(action))
 
 

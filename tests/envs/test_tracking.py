@@ -60,6 +60,28 @@ def test_policy_at_the_initial_state_is_the_demonstrations_torque(nominal_demo: 
     assert swapped.action == pytest.approx(motor_controls(swapped.tau_ff + swapped.tau_fb, "b"))
 
 
+def test_policy_tracks_the_next_step_once_the_hip_passes_the_steps_end(nominal_demo: Demonstration):
+    """The demonstration's next step (legs swapped) begins where its step ends, touched down or not."""
+    from envs.coordinates import to_generalized
+    from ioc_bench.model.walker import walker_linkage
+
+    tr, policy = nominal_demo.trajectory, TrackingPolicy(nominal_demo)
+    env = PlanarWalkerEnv(demonstration=nominal_demo)
+    env.reset()
+    link = walker_linkage(nominal_demo.params)
+    # The next step's second knot (leg b in stance), before the environment saw a heel strike.
+    env.set_state(*to_generalized(link, tr.q[1], tr.v[1], None, "b")[:2])
+    obs = env._get_obs()
+    early = policy.command(obs, {"stance_leg": "a"})
+    assert early.stance_leg == "b"
+    assert early.phase == pytest.approx(tr.times[1], abs=1e-6)
+    assert np.array_equal(early.action, policy.command(obs, {"stance_leg": "b"}).action)
+    # Within the step the environment's stance leg is kept.
+    env.set_state(*to_generalized(link, tr.q[-2], tr.v[-2], None, "a")[:2])
+    late = policy.command(env._get_obs(), {"stance_leg": "a"})
+    assert late.stance_leg == "a" and late.phase == pytest.approx(tr.times[-2], abs=1e-6)
+
+
 def test_policy_serves_a_vector_env_like_single_envs(nominal_demo: Demonstration):
     policy = TrackingPolicy(nominal_demo)
     vec = gym.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", demonstration=nominal_demo)
