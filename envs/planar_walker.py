@@ -318,9 +318,9 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self._drawer: Any = None
         self._prev_torque: np.ndarray | None = None
         self._stance = StanceTracker()
-        set_stance_friction(self.model, self._stance.stance_leg)
         self._feet = {leg: self.model.site(f"foot_{leg}").id for leg in LEGS}
         self._foot_geoms = foot_geoms(self.model)
+        self._set_friction()
         #: The noiseless standing start: straight legs, hip one leg length above the feet, at rest.
         self.init_qpos = np.array([0.0, self.params.leg_length, 0.0, 0.0, 0.0, 0.0, 0.0])
         self.init_qvel = np.zeros(self.model.nv)
@@ -383,7 +383,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         if state.physics.shape != (size,):
             raise ValueError(f"the snapshot's physics state has {state.physics.shape[0]} numbers, this model's {size}")
         self._stance = StanceTracker(state.stance_leg, state.swing_lifted, state.heel_strikes, state.landing_distance)
-        set_stance_friction(self.model, self._stance.stance_leg)
+        self._set_friction()
         mujoco.mj_setState(self.model, self.data, np.array(state.physics), _PHYSICS_STATE)
         mujoco.mj_forward(self.model, self.data)
         self._prev_torque = None if state.previous_torque is None else np.array(state.previous_torque)
@@ -420,7 +420,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         else:
             qpos, qvel, stance = self._standing_state()
         self._stance = StanceTracker(stance, landing_distance=landing_distance(demo))
-        set_stance_friction(self.model, stance)
+        self._set_friction()
         self.data.qpos[:], self.data.qvel[:] = qpos, qvel
         mujoco.mj_forward(self.model, self.data)
         self._prev_torque = None
@@ -491,7 +491,11 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         """After each physics step: lift-off and landing of the swing foot; friction follows the roles."""
         foot_x = {leg: float(self.data.site_xpos[site][0]) for leg, site in self._feet.items()}
         if self._stance.update(self._feet_in_contact(), foot_x):
-            set_stance_friction(self.model, self._stance.stance_leg)
+            self._set_friction()
+
+    def _set_friction(self) -> None:
+        """Friction on the stance foot, a frictionless swing foot (``envs.physics``)."""
+        set_stance_friction(self.model, self._stance.stance_leg)
 
     def _checked_torque(self, action: np.ndarray) -> np.ndarray:
         """The action as float64 motor torques, clipped to the bound; ValueError if malformed."""
