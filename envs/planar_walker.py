@@ -484,12 +484,12 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
 
     def _feet_in_contact(self) -> dict[str, bool]:
         """Leg -> whether its foot touches the floor (MuJoCo's contacts of the last physics step)."""
-        geoms = self.data.contact.geom[: self.data.ncon]
-        return {leg: bool(np.any(geoms == gid)) for leg, gid in self._foot_geoms.items()}
+        geoms = self.data.contact.geom[: self.data.ncon].ravel().tolist()  # a few ints: faster than numpy
+        return {leg: gid in geoms for leg, gid in self._foot_geoms.items()}
 
     def _gait_events(self) -> None:
         """After each physics step: lift-off and landing of the swing foot; friction follows the roles."""
-        foot_x = {leg: float(self.data.site_xpos[site][0]) for leg, site in self._feet.items()}
+        foot_x = {leg: float(self.data.site_xpos[site, 0]) for leg, site in self._feet.items()}
         if self._stance.update(self._feet_in_contact(), foot_x):
             self._set_friction()
 
