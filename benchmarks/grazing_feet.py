@@ -188,10 +188,19 @@ def first_graze(demo: Demonstration, name: str) -> dict[str, float] | None:
     }
 
 
-def energy_losses(demo: Demonstration, steps: int = 6) -> list[tuple[float, float, float]]:
+def knee_limit_power(env: Env, leg: str) -> float:
+    """Power of the knee limit's constraint force on leg ``leg`` (constraint force times velocity)."""
+    mujoco.mj_forward(env.model, env.data)
+    joint = env.model.joint(f"knee_{leg}").id
+    rows = (env.data.efc_type == mujoco.mjtConstraint.mjCNSTR_LIMIT_JOINT) & (env.data.efc_id == joint)
+    return float(np.dot(env.data.efc_force[rows], env.data.efc_vel[rows]))
+
+
+def energy_losses(demo: Demonstration, steps: int = 6) -> list[tuple[float, float, float, float]]:
     """v2's closed loop: per step, the energy lost (motor work minus the gain of kinetic plus
     potential energy), the part of it lost in the first 0.1 time units after the heel
-    strike, and the step's duration over the demonstration's. The optimal step loses none."""
+    strike, the work of the swing knee's limit, and the step's duration over the
+    demonstration's. The optimal step loses none."""
     env, policy = Env(demonstration=demo, frame_skip=1), TrackingPolicy(demo)
     model, data = env.model, env.data
     dofs = [model.jnt_dofadr[model.actuator_trnid[i, 0]] for i in range(model.nu)]
@@ -202,20 +211,21 @@ def energy_losses(demo: Demonstration, steps: int = 6) -> list[tuple[float, floa
         return float(data.energy.sum())
 
     obs, info = env.reset()
-    out, start, lost, early, before = [], 0.0, 0.0, 0.0, energy()
+    out, start, lost, early, knee, before = [], 0.0, 0.0, 0.0, 0.0, energy()
     while len(out) < steps and data.time < 3 * steps * demo.trajectory.duration:
-        qvel = data.qvel[dofs].copy()
+        qvel, swing = data.qvel[dofs].copy(), other_leg(info["stance_leg"])
         obs, _, terminated, _, info = env.step(policy(obs, info))
         work = float(np.dot(data.ctrl, 0.5 * (qvel + data.qvel[dofs]))) * env.dt
         after = energy()
         loss, before = work - (after - before), after
         lost += loss
         early += loss if data.time - start <= 0.1 else 0.0
+        knee += knee_limit_power(env, swing) * env.dt
         if terminated:
             break
         if info["heel_strikes"] > len(out):
-            out.append((lost, early, (data.time - start) / demo.trajectory.duration))
-            start, lost, early = float(data.time), 0.0, 0.0
+            out.append((lost, early, knee, (data.time - start) / demo.trajectory.duration))
+            start, lost, early, knee = float(data.time), 0.0, 0.0, 0.0
     return out
 
 
@@ -298,9 +308,12 @@ def main(argv: list[str] | None = None) -> int:
 
     if not args.energy_only:
         tables(demos, names)
-    print("\nv2, energy lost per step (m g L) [of which in the first 0.1 after the heel strike] (step / demo's)")
+    print(
+        "\nv2, energy lost per step (m g L) [of which in the first 0.1 after the heel strike] "
+        "{work of the swing knee's limit} (step / demo's)"
+    )
     for key, demo in demos.items():
-        cells = [f"{lost:.1e} [{early:.1e}] ({ratio:.2f})" for lost, early, ratio in energy_losses(demo)]
+        cells = [f"{lost:.1e} [{early:.1e}] {{{k:.1e}}} ({r:.2f})" for lost, early, k, r in energy_losses(demo)]
         print(f"{key:20s} | " + " | ".join(cells), flush=True)
     return 0
 
