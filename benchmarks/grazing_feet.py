@@ -229,6 +229,32 @@ def energy_losses(demo: Demonstration, steps: int = 6) -> list[tuple[float, floa
     return out
 
 
+def touchdowns(demo: Demonstration, steps: int = 10) -> tuple[list[float], list[float]]:
+    """v2's closed loop (control every physics step): where each touchdown of the swing
+    foot began, as a fraction of the step ahead of the stance foot, for the grazes and
+    for the landings (the touchdowns that ended as heel strikes)."""
+    env, policy, length = Env(demonstration=demo, frame_skip=1), TrackingPolicy(demo), step_length(demo)
+    obs, info = env.reset()
+    grazes, landings, began, lifted = [], [], None, False
+    while info["heel_strikes"] < steps and env.data.time < 3 * steps * demo.trajectory.duration:
+        stance = info["stance_leg"]
+        swing = other_leg(stance)
+        obs, _, terminated, _, info = env.step(policy(obs, info))
+        if terminated:
+            break
+        x = {leg: float(env.data.site_xpos[site, 0]) for leg, site in env._feet.items()}
+        struck = info["stance_leg"] != stance
+        if (info[f"contact_{swing}"] or struck) and lifted and began is None:
+            began = (x[swing] - x[stance]) / length
+        if struck:
+            landings += [] if began is None else [began]
+            began, lifted = None, False
+        elif not info[f"contact_{swing}"]:
+            grazes += [] if began is None else [began]
+            began, lifted = None, True
+    return grazes, landings
+
+
 def closed(demo: Demonstration, name: str) -> dict[str, float]:
     with option(name):
         cl = closed_loop_replay(demo, steps=10)
@@ -298,7 +324,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("demos", nargs="+", type=Path, help="demonstration files")
     parser.add_argument("--options", default=",".join(OPTIONS), help="options to compare, comma-separated")
-    parser.add_argument("--energy-only", action="store_true", help="only the energy table")
+    parser.add_argument("--energy-only", action="store_true", help="only v2's energy and touchdown tables")
     args = parser.parse_args(argv)
     names = args.options.split(",")
     for name in names:
@@ -315,6 +341,11 @@ def main(argv: list[str] | None = None) -> int:
     for key, demo in demos.items():
         cells = [f"{lost:.1e} [{early:.1e}] {{{k:.1e}}} ({r:.2f})" for lost, early, k, r in energy_losses(demo)]
         print(f"{key:20s} | " + " | ".join(cells), flush=True)
+    print("\nv2, touchdowns of the swing foot: where they began (x / step), grazes and landings")
+    for key, demo in demos.items():
+        grazes, landings = touchdowns(demo)
+        span = f"{min(grazes):.2f} to {max(grazes):.2f} ({len(grazes)})" if grazes else "none"
+        print(f"{key:20s} | grazes {span} | landings " + ", ".join(f"{x:.2f}" for x in sorted(landings)), flush=True)
     return 0
 
 

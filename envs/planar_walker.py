@@ -65,9 +65,9 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     heel strike, and never acts on the swing foot, which may touch the ground at height 0
     mid-swing with no force; the benchmark's optimal steps do (they graze the ground
     mid-swing and set the swing foot down with zero velocity). In plain MuJoCo such a
-    graze is a scuff with friction (on the nominal step a braking force of 6.5 body
-    weights for one physics step, unloading the stance foot) and was counted as a heel
-    strike. So, unlike plain MuJoCo:
+    graze is a scuff with friction (on the nominal step a braking force of 5.5 body
+    weights, on the friction cone's edge, for two physics steps, unloading the stance
+    foot) and was counted as a heel strike. So, unlike plain MuJoCo:
     - only the **stance** foot has friction (coefficient `params.friction`, pyramidal
       cone, MuJoCo `condim` 3); the **swing** foot's contact is frictionless (`condim` 1:
       the floor still holds it up, it cannot drag it). The feet have contact priority over
