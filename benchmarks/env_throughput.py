@@ -1,4 +1,4 @@
-"""Environment steps per second: IOCBench/PlanarWalker-v1 beside Gymnasium's Walker2d-v5, in one run.
+"""Environment steps per second: IOCBench/PlanarWalker (v2) beside Gymnasium's Walker2d-v5, in one run.
 
 Both environments are made with ``gymnasium.make`` (so with Gymnasium's standard
 wrappers, as users run them) and stepped with seeded random actions from their action

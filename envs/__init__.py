@@ -1,12 +1,12 @@
 """Gymnasium environment, demonstration-tracking policy and MuJoCo replay checks for the ioc-bench walker.
 
-Importing this package registers ``IOCBench/PlanarWalker-v1`` by string entry point, so
+Importing this package registers ``IOCBench/PlanarWalker-v2`` by string entry point, so
 MuJoCo is imported only when the environment is made::
 
     import gymnasium as gym
 
-    env = gym.make("envs:IOCBench/PlanarWalker-v1")  # imports ``envs``, then makes the env
-    # or: import envs; gym.register_envs(envs); env = gym.make("IOCBench/PlanarWalker-v1")
+    env = gym.make("envs:IOCBench/PlanarWalker-v2")  # imports ``envs``, then makes the env
+    # or: import envs; gym.register_envs(envs); env = gym.make("IOCBench/PlanarWalker-v2")
 
 Gymnasium 1.x has no plugin entry-point group, hence the ``module:id`` form above.
 
@@ -29,7 +29,7 @@ from typing import Any
 import gymnasium
 
 #: The environment id; bump ``vN`` whenever dynamics, observations or reward change.
-PLANAR_WALKER_ID = "IOCBench/PlanarWalker-v1"
+PLANAR_WALKER_ID = "IOCBench/PlanarWalker-v2"
 
 if PLANAR_WALKER_ID not in gymnasium.registry:
     gymnasium.register(

@@ -1,4 +1,4 @@
-"""The layout of ``IOCBench/PlanarWalker-v1``'s observation, for the env and for policies.
+"""The layout of ``IOCBench/PlanarWalker-v2``'s observation, for the env and for policies.
 
 An observation is ``[qpos[1:], qvel, previous torque]`` (17 numbers), or with the hip's
 forward position kept (``exclude_current_positions_from_observation=False``)

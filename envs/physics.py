@@ -1,4 +1,16 @@
-"""The MuJoCo walker: model construction and the few queries the env and replays share."""
+"""The MuJoCo walker: model construction and the few queries the env and replays share.
+
+Feet and ground as the trajectory optimizer models them: the ground holds the **stance**
+foot (a pin whose force stays inside the friction cone) and takes the landing at heel
+strike; it never acts on the swing foot, which the optimizer lets touch the ground at
+height 0 mid-swing with no force. The environment therefore gives the swing foot a
+frictionless contact (normal force only, MuJoCo ``condim`` 1) and the stance foot the
+generated model's friction (``condim`` 3, coefficient ``params.friction``), swapping the
+two when the roles swap at a heel strike (:func:`set_stance_friction`). The feet get
+contact priority over the floor so that their own ``condim`` decides (MuJoCo otherwise
+takes the larger of the two geoms'). docs/environment.md, "Grazing swing feet", has the
+measurements.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +19,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ioc_bench.model.mjcf import ContactSettings, walker_mjcf
+from ioc_bench.model.mjcf import LEGS, ContactSettings, walker_mjcf
 from ioc_bench.model.params import WalkerParams
 
 #: The environment's physics: the generated model's contact settings with RK4 steps of
@@ -18,6 +30,10 @@ from ioc_bench.model.params import WalkerParams
 #: (docs/environment.md, ``benchmarks/physics_step.py``). The contact time constant
 #: (0.004) stays at MuJoCo's lower limit of two timesteps.
 DEFAULT_CONTACT = ContactSettings(timestep=0.002)
+#: MuJoCo contact dimensionality of the stance foot (normal force and friction in the plane).
+STANCE_CONDIM = 3
+#: MuJoCo contact dimensionality of the swing foot: normal force only, no friction.
+SWING_CONDIM = 1
 
 
 def build_model(params: WalkerParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
@@ -26,6 +42,28 @@ def build_model(params: WalkerParams | None = None, contact: ContactSettings | N
     ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
     """
     return mujoco.MjModel.from_xml_string(walker_mjcf(params, contact or DEFAULT_CONTACT))
+
+
+def foot_geoms(model: mujoco.MjModel) -> dict[str, int]:
+    """Leg -> the geom id of its foot (the only geoms that collide with the floor)."""
+    return {leg: model.geom(f"foot_{leg}").id for leg in LEGS}
+
+
+def give_feet_priority(model: mujoco.MjModel) -> None:
+    """Let the feet's own contact settings decide their contacts with the floor.
+
+    MuJoCo combines two geoms' ``condim`` by their maximum unless one has the higher
+    priority; with priority 1 on the feet, :func:`set_stance_friction` decides each foot's.
+    The feet and the floor share solref, solimp and friction coefficient, so nothing else changes.
+    """
+    for gid in foot_geoms(model).values():
+        model.geom_priority[gid] = 1
+
+
+def set_stance_friction(model: mujoco.MjModel, stance_leg: str) -> None:
+    """Friction on the stance foot, none on the swing foot (see the module docstring)."""
+    for leg, gid in foot_geoms(model).items():
+        model.geom_condim[gid] = STANCE_CONDIM if leg == stance_leg else SWING_CONDIM
 
 
 def foot_in_contact(model: mujoco.MjModel, data: mujoco.MjData, leg: str) -> bool:

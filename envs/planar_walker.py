@@ -1,4 +1,4 @@
-"""``IOCBench/PlanarWalker-v1``: the ioc-bench walker as a Gymnasium environment."""
+"""``IOCBench/PlanarWalker-v2``: the ioc-bench walker as a Gymnasium environment."""
 
 from __future__ import annotations
 
@@ -11,9 +11,16 @@ import numpy as np
 from gymnasium import spaces, utils
 
 from envs.coordinates import to_generalized
-from envs.heel_strikes import StanceTracker
+from envs.heel_strikes import StanceTracker, landing_distance
 from envs.observation import observation_names
-from envs.physics import DEFAULT_CONTACT, HealthyRange, build_model, foot_in_contact
+from envs.physics import (
+    DEFAULT_CONTACT,
+    HealthyRange,
+    build_model,
+    foot_geoms,
+    give_feet_priority,
+    set_stance_friction,
+)
 from envs.rendering import RENDERER_CHOICES, make_renderer
 from envs.state import WalkerState
 from ioc_bench.demo import Demonstration
@@ -49,9 +56,31 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     policy and an IRL method can be scored on the weights.
 
     Physics: MuJoCo RK4 steps of 0.002 (as Walker2d-v5), 5 per action, so `dt` = 0.01;
-    soft point-foot contact with friction and the knee limit as the passive knee-lock
+    soft point-foot contact and the knee limit as the passive knee-lock
     (`ioc_bench.model.mjcf`). The step size was measured against 0.0005 (`ContactSettings`'
     default): docs/environment.md.
+
+    Feet and ground follow the trajectory optimizer's model, not plain MuJoCo. There the
+    ground holds the stance foot (a pin inside the friction cone) and takes the landing at
+    heel strike, and never acts on the swing foot, which may touch the ground at height 0
+    mid-swing with no force; the benchmark's optimal steps do (they graze the ground
+    mid-swing and set the swing foot down with zero velocity). In plain MuJoCo such a
+    graze is a scuff with friction (on the nominal step a braking force of 5.5 body
+    weights, on the friction cone's edge, for two physics steps, unloading the stance
+    foot) and was counted as a heel strike. So, unlike plain MuJoCo:
+    - only the **stance** foot has friction (coefficient `params.friction`, pyramidal
+      cone, MuJoCo `condim` 3); the **swing** foot's contact is frictionless (`condim` 1:
+      the floor still holds it up, it cannot drag it). The feet have contact priority over
+      the floor, so each foot's own `condim` decides. The two swap at every heel strike.
+    - a **heel strike** is the swing foot, off the floor since the last one, touching the
+      floor more than the episode's *landing distance* ahead of the stance foot:
+      3/4 of the demonstration's step length when the episode started from one
+      (`envs.heel_strikes.LANDING_FRACTION`), 0 (anywhere ahead) for a standing start.
+      Nearer touchdowns are grazes: they are not counted and the roles stay.
+    - gait events (lift-off, heel strike, and with them the friction) are checked after
+      every physics step, not once per action.
+    Everything else (masses, joints, knee limit, the floor's position and softness) is the
+    generated model's. docs/environment.md, "Grazing swing feet", has the measurements.
 
     Legs are physical (`a`, `b`); a demonstration's stance leg is leg `a` after a reset
     from it. `envs.TrackingPolicy(demonstration)` turns a demonstration into actions
@@ -127,9 +156,10 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     `info` also carries each raw increment (`phi_hip`, `phi_knee`, `phi_dtau`), the hip's
     `x_position` and `x_velocity`, which feet touch the floor (`contact_a`, `contact_b`),
     the leg in the stance role (`stance_leg`, "a" or "b") and the heel strikes since the
-    reset (`heel_strikes`). A heel strike is the swing foot touching the floor ahead of
-    the stance foot after having left it (checked at the end of every step); the roles
-    then swap. `reset`'s `info` has `x_position`, `stance_leg`, `heel_strikes` and
+    reset (`heel_strikes`). A heel strike is the swing foot landing (see Description: it
+    touches the floor beyond the landing distance ahead of the stance foot after having
+    left it; checked after every physics step); the roles, and the feet's friction, then
+    swap. `reset`'s `info` has `x_position`, `stance_leg`, `heel_strikes` and
     `reward_weights`.
 
     ## Starting State
@@ -137,14 +167,16 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     above the feet) and `init_qvel` (0) plus uniform noise in $[-\epsilon, \epsilon]$
     ($\epsilon$ = `reset_noise_scale`) on every joint angle (knee flexions take its absolute
     value, so they stay in range) and on every velocity; the walker is then lowered onto
-    its lowest foot, whose leg is the stance leg.
+    its lowest foot, whose leg is the stance leg (the other foot is frictionless); the
+    landing distance is 0.
     With a demonstration (the `demonstration` argument, or `reset(options={"demonstration":
     demo})` for one reset; `options={"demonstration": None}` for a standing start):
     exactly the demonstration's initial state (knot 0, just after heel strike), leg `a` in
-    stance, no noise. A `Demonstration` or a path to one; its segment lengths must match
-    the environment's (masses may differ: that is the "wrong model" check). Vector
-    environments reset finished episodes without options, so give the demonstration as
-    an argument there (`gymnasium.make_vec(..., demonstration=demo)`).
+    stance, no noise; the landing distance is 3/4 of its step length. A `Demonstration`
+    or a path to one; its segment lengths must match the environment's (masses may
+    differ: that is the "wrong model" check). Vector environments reset finished episodes
+    without options, so give the demonstration as an argument there
+    (`gymnasium.make_vec(..., demonstration=demo)`).
 
     ## Episode End
     ### Termination
@@ -152,19 +184,21 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     torso angle leaves `healthy_angle_range` (default `(-1, 1)` rad), when
     `terminate_when_unhealthy` is True.
     ### Truncation
-    1000 steps (10 time units, about 12 walking steps) when made with `gymnasium.make`.
+    1000 steps (10 time units: about 12 of the earlier short steps, 7-8 of the benchmark's
+    current ones of 1.2-1.4) when made with `gymnasium.make` (`max_episode_steps` overrides it).
 
     ## State
     `get_state()` returns a `WalkerState`: MuJoCo's integration state (time, `qpos`,
     `qvel`, the solver's warm start, controls, applied forces) and the environment's own
-    (previous torque, stance leg, heel-strike bookkeeping, reward weights).
+    (previous torque, stance leg, which also sets the feet's friction, heel-strike
+    bookkeeping and landing distance, reward weights).
     `set_state(state)` restores it exactly: the next `step` gives bit-for-bit the same
     result. As in Gymnasium's `MujocoEnv`, `set_state(qpos, qvel)` sets positions and
     velocities only, and `state_vector()` is `concatenate([qpos, qvel])`. Pickling and
     `copy.deepcopy` carry the state and the random generator along.
 
     ## Arguments
-    `gymnasium.make("envs:IOCBench/PlanarWalker-v1", **kwargs)` (or `import envs` first).
+    `gymnasium.make("envs:IOCBench/PlanarWalker-v2", **kwargs)` (or `import envs` first).
 
     | Parameter                  | Type              | Default       | Description                                  |
     |----------------------------|-------------------|---------------|----------------------------------------------|
@@ -195,6 +229,13 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     figure's: see docs/environment.md.
 
     ## Version History
+    * v2: contact as in the trajectory optimizer's model: the swing foot is frictionless
+      and the stance foot keeps the friction, swapping at heel strikes; a heel strike
+      needs the touchdown to be beyond the landing distance (3/4 of the demonstration's
+      step) ahead of the stance foot, so mid-swing grazes are not counted; gait events
+      are checked after every physics step (v1: plain MuJoCo contact, both feet with
+      friction, any touchdown ahead counted, checked once per action). The state carries
+      the landing distance.
     * v1: physics steps of 0.002 with `frame_skip` 5 (v0: 0.0005 and 20; `dt` is still
       0.01), about 2.5x the steps per second; observations no longer clipped (velocities
       were clipped at +-10 and angles at +-pi) and extended by the previous torque (17
@@ -270,6 +311,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self.reset_noise_scale = float(reset_noise_scale)
         self.exclude_x = bool(exclude_current_positions_from_observation)
         self.model = build_model(self.params, contact or DEFAULT_CONTACT)
+        give_feet_priority(self.model)
         self.data = mujoco.MjData(self.model)
         self.render_mode, self.width, self.height, self.renderer = render_mode, int(width), int(height), renderer
         #: The renderer drawing the frames ("mujoco" or "stick"); None before the first render.
@@ -278,6 +320,8 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self._prev_torque: np.ndarray | None = None
         self._stance = StanceTracker()
         self._feet = {leg: self.model.site(f"foot_{leg}").id for leg in LEGS}
+        self._foot_geoms = foot_geoms(self.model)
+        self._set_friction()
         #: The noiseless standing start: straight legs, hip one leg length above the feet, at rest.
         self.init_qpos = np.array([0.0, self.params.leg_length, 0.0, 0.0, 0.0, 0.0, 0.0])
         self.init_qvel = np.zeros(self.model.nv)
@@ -313,6 +357,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
             swing_lifted=self._stance.swing_lifted,
             heel_strikes=self._stance.heel_strikes,
             weights=self.weights.copy(),
+            landing_distance=self._stance.landing_distance,
         )
 
     def set_state(self, state: WalkerState | np.ndarray, qvel: np.ndarray | None = None) -> None:
@@ -338,10 +383,11 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         size = mujoco.mj_stateSize(self.model, _PHYSICS_STATE)
         if state.physics.shape != (size,):
             raise ValueError(f"the snapshot's physics state has {state.physics.shape[0]} numbers, this model's {size}")
+        self._stance = StanceTracker(state.stance_leg, state.swing_lifted, state.heel_strikes, state.landing_distance)
+        self._set_friction()
         mujoco.mj_setState(self.model, self.data, np.array(state.physics), _PHYSICS_STATE)
         mujoco.mj_forward(self.model, self.data)
         self._prev_torque = None if state.previous_torque is None else np.array(state.previous_torque)
-        self._stance = StanceTracker(state.stance_leg, state.swing_lifted, state.heel_strikes)
         self.weights = np.array(state.weights)
 
     def __getstate__(self) -> dict[str, Any]:
@@ -374,10 +420,11 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
             stance = LEGS[0]
         else:
             qpos, qvel, stance = self._standing_state()
+        self._stance = StanceTracker(stance, landing_distance=landing_distance(demo))
+        self._set_friction()
         self.data.qpos[:], self.data.qvel[:] = qpos, qvel
         mujoco.mj_forward(self.model, self.data)
         self._prev_torque = None
-        self._stance = StanceTracker(stance)
         self.weights = self._episode_weights(demo)
         info = {
             "x_position": float(self.data.qpos[0]),
@@ -424,17 +471,32 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         torque = self._checked_torque(action)
         x_before = float(self.data.qpos[0])
         self.data.ctrl[:] = torque
-        mujoco.mj_step(self.model, self.data, nstep=self.frame_skip)
+        for _ in range(self.frame_skip):
+            mujoco.mj_step(self.model, self.data)
+            self._gait_events()
         x_after = float(self.data.qpos[0])
         info = self._reward_terms(torque, x_before, x_after)
         reward = float(sum(info[k] for k in REWARD_TERMS))
         self._prev_torque = torque
-        contact = {leg: info[f"contact_{leg}"] for leg in LEGS}
-        self._stance.update(contact, {leg: float(self.data.site_xpos[site][0]) for leg, site in self._feet.items()})
         info["stance_leg"], info["heel_strikes"] = self._stance.stance_leg, self._stance.heel_strikes
         fell = self.healthy.fall_reason(self.data.qpos) is not None
         terminated = bool(fell and self.terminate_when_unhealthy)
         return self._get_obs(), reward, terminated, False, info
+
+    def _feet_in_contact(self) -> dict[str, bool]:
+        """Leg -> whether its foot touches the floor (MuJoCo's contacts of the last physics step)."""
+        geoms = self.data.contact.geom[: self.data.ncon].ravel().tolist()  # a few ints: faster than numpy
+        return {leg: gid in geoms for leg, gid in self._foot_geoms.items()}
+
+    def _gait_events(self) -> None:
+        """After each physics step: lift-off and landing of the swing foot; friction follows the roles."""
+        foot_x = {leg: float(self.data.site_xpos[site, 0]) for leg, site in self._feet.items()}
+        if self._stance.update(self._feet_in_contact(), foot_x):
+            self._set_friction()
+
+    def _set_friction(self) -> None:
+        """Friction on the stance foot, a frictionless swing foot (``envs.physics``)."""
+        set_stance_friction(self.model, self._stance.stance_leg)
 
     def _checked_torque(self, action: np.ndarray) -> np.ndarray:
         """The action as float64 motor torques, clipped to the bound; ValueError if malformed."""
@@ -456,7 +518,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
             info[f"reward_{name}"] = -self.cost_scale * float(w) * phi[name]
         info |= {f"phi_{name}": value for name, value in phi.items()}
         info |= {"x_position": x_after, "x_velocity": (x_after - x_before) / dt}
-        info |= {f"contact_{leg}": foot_in_contact(self.model, self.data, leg) for leg in LEGS}
+        info |= {f"contact_{leg}": touching for leg, touching in self._feet_in_contact().items()}
         return info
 
     # -- rendering ------------------------------------------------------------------------

@@ -3,9 +3,10 @@
 MuJoCo's ``qpos`` and ``qvel`` are not all of it: the next step also reads the time, the
 constraint solver's warm start and the applied forces (MuJoCo's ``mjSTATE_INTEGRATION``
 bundle), and the environment's own bookkeeping: the previous torque (the ``dtau`` reward
-term), the stance leg and heel-strike count (``info``), and the reward weights of the
-episode. :meth:`PlanarWalkerEnv.set_state` of a :meth:`PlanarWalkerEnv.get_state` restores
-all of it, so the next step is bit-for-bit the one the original would have taken.
+term), the stance leg (which also decides which foot has friction) and heel-strike count
+(``info``), the episode's landing distance (``envs.heel_strikes``) and its reward weights.
+:meth:`PlanarWalkerEnv.set_state` of a :meth:`PlanarWalkerEnv.get_state` restores all of it,
+so the next step is bit-for-bit the one the original would have taken.
 """
 
 from __future__ import annotations
@@ -35,10 +36,13 @@ class WalkerState:
             qvel, warm start, controls, applied forces, in MuJoCo's order.
         previous_torque: (4,) the last applied torque, ``MOTORS`` order; None right after
             a reset (the first step's ``dtau`` term is then 0).
-        stance_leg: the physical leg in the stance role ("a" or "b").
+        stance_leg: the physical leg in the stance role ("a" or "b"); its foot has
+            friction, the other's not.
         swing_lifted: whether the swing foot has been off the floor since the last heel strike.
         heel_strikes: heel strikes since the reset.
         weights: (3,) unit-norm reward weights of the episode over (hip, knee, dtau).
+        landing_distance: how far ahead of the stance foot a touchdown counts as the
+            landing (from the episode's demonstration; 0 for a standing start).
     """
 
     physics: np.ndarray
@@ -47,6 +51,7 @@ class WalkerState:
     swing_lifted: bool
     heel_strikes: int
     weights: np.ndarray
+    landing_distance: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "physics", _frozen(self.physics))

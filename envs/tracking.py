@@ -15,6 +15,16 @@ swing); the environment steps at its own ``dt`` and names torques by physical le
 - **Legs by role.** ``info["stance_leg"]`` (reported by the environment, which detects
   heel strikes) says which physical leg plays the stance role; the torques are mapped to
   the motors accordingly, so they swap at every heel strike.
+- **The step ends where the demonstration's ends.** Once the hip is further ahead of the
+  stance foot than at the demonstration's last knot, the demonstrated step is over and the
+  next one (the same step with the legs' roles swapped: the demonstration is one period
+  of a periodic gait) has begun, whether or not the environment has seen the swing foot
+  land yet: the policy then tracks the next step, phased by the hip's distance ahead of
+  the swing foot. The benchmark's optimal steps put the swing foot down with zero velocity
+  and no impact, tangentially to the ground; a tracking error of 1e-4 leaves it hovering
+  that high at the step's end, and holding the last knot's reference until it touched
+  made the steps 8 % longer than the demonstration's and the walk drift into another
+  gait (docs/environment.md, "Grazing swing feet").
 
 The policy keeps no state between calls: everything comes from the observation and
 ``info``, so one policy serves every environment of a vector environment.
@@ -29,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from envs.coordinates import actuated_dofs, check_stance, motor_controls
+from envs.coordinates import actuated_dofs, check_stance, motor_controls, other_leg
 from envs.observation import ObservedState, split_observation
 from envs.reference import Reference, hip_over_foot
 from ioc_bench.demo import Demonstration
@@ -65,7 +75,8 @@ class TrackingCommand:
     """One decision of the policy, joint quantities in ``ACTUATORS`` (role) order.
 
     Attributes:
-        stance_leg: the physical leg in the stance role.
+        stance_leg: the physical leg tracked in the stance role (the environment's stance
+            leg, or the other once the hip has passed the end of the demonstrated step).
         phase: the reference time matching the observed hip-over-foot distance.
         rate: the observed over the reference phase rate.
         joints: (4,) observed actuated joint angles (rad).
@@ -123,9 +134,13 @@ class TrackingPolicy:
         return np.array(rows, dtype=np.float32)
 
     def command(self, observation: np.ndarray, info: Mapping[str, Any]) -> TrackingCommand:
-        """The full decision for one observation, with its parts (for checks and plots)."""
-        stance = check_stance(str(_stance_legs(info)))
+        """The full decision for one observation, with its parts (for checks and plots).
+
+        ``stance_leg`` of the result is the leg tracked in the stance role: the
+        environment's, or the other one once the hip has passed the demonstrated step's end.
+        """
         state = split_observation(observation)
+        stance = self.tracked_stance(state, check_stance(str(_stance_legs(info))))
         t, rate = self.phase(state, stance)
         dofs = actuated_dofs(stance)
         q = np.array([state.qpos_at(i) for i in dofs])
@@ -136,8 +151,25 @@ class TrackingPolicy:
         action = np.clip(motor_controls(ff + fb, stance), -self._max_torque, self._max_torque)
         return TrackingCommand(stance, t, rate, q, q_ref, ff, fb, action)
 
+    def tracked_stance(self, state: ObservedState, stance: str) -> str:
+        """The leg to track in the stance role, given the environment's stance leg.
+
+        The demonstrated step ends where the hip is as far ahead of the stance foot as at
+        its last knot; past that, the next step, with the roles swapped, is tracked even
+        if the environment has not seen the swing foot land yet (it hovers).
+        """
+        if self._hip_over_foot(state, stance)[0] > self._path_x[-1]:
+            return other_leg(stance)
+        return stance
+
     def phase(self, state: ObservedState, stance: str) -> tuple[float, float]:
         """Reference time matching the hip's distance ahead of the stance foot, and the phase rate."""
+        x, _ = self._hip_over_foot(state, stance)
+        t = float(np.interp(x, self._path_x, self._path_t))
+        return t, float(state.qvel[0]) / float(np.interp(t, self._path_t, self._path_xd))
+
+    def _hip_over_foot(self, state: ObservedState, stance: str) -> tuple[float, float]:
+        """The hip's forward position and velocity relative to leg ``stance``'s foot."""
         link = self.reference.linkage
         theta, omega = np.zeros(len(link.segments)), np.zeros(len(link.segments))
         torso = link.index("torso")
@@ -147,9 +179,7 @@ class TrackingPolicy:
             thigh, shank = link.index(f"thigh_{leg_role}"), link.index(f"shank_{leg_role}")
             theta[thigh], omega[thigh] = theta[torso] + state.qpos_at(hip), omega[torso] + state.qvel[hip]
             theta[shank], omega[shank] = theta[thigh] + state.qpos_at(knee), omega[thigh] + state.qvel[knee]
-        x, _ = hip_over_foot(link, theta, omega)
-        t = float(np.interp(x, self._path_x, self._path_t))
-        return t, float(state.qvel[0]) / float(np.interp(t, self._path_t, self._path_xd))
+        return hip_over_foot(link, theta, omega)
 
 
 def _stance_legs(info: Mapping[str, Any]) -> Any:
@@ -157,7 +187,7 @@ def _stance_legs(info: Mapping[str, Any]) -> Any:
         return info["stance_leg"]
     except (KeyError, TypeError):
         raise ValueError(
-            "info has no 'stance_leg': pass the info of IOCBench/PlanarWalker-v1's reset or step"
+            "info has no 'stance_leg': pass the info of IOCBench/PlanarWalker-v2's reset or step"
         ) from None
 
 

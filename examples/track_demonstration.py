@@ -26,32 +26,41 @@ def main(demo: ioc_bench.Demonstration | None = None, out: str = "track_demonstr
     demo = demo or ioc_bench.optimize_gait("nominal", task=ioc_bench.Task(speed=0.27), starts=1, seed=0)
     policy = envs.TrackingPolicy(demo)
 
+    # Time for the steps at up to twice the demonstration's step duration (the registered
+    # 1000 env steps, 10 time units, are fewer than 10 of the benchmark's steps).
+    limit = int(2 * steps * demo.trajectory.duration / 0.01)
+
     def make(scale: float):  # every episode, autoreset included, starts from the demonstration
         params = demo.params.with_leg_mass_scale(scale)
         kwargs = {"render_mode": "rgb_array", "renderer": "stick", "width": 240, "height": 180}
-        return lambda: gym.make(envs.PLANAR_WALKER_ID, params=params, demonstration=demo, **kwargs)
+        return lambda: gym.make(
+            envs.PLANAR_WALKER_ID, params=params, demonstration=demo, max_episode_steps=limit, **kwargs
+        )
 
     vec = gym.vector.SyncVectorEnv([make(s) for s in LEG_MASS_SCALES])
     obs, info = vec.reset(seed=0)
-    errors, fell, frames, t = [[] for _ in LEG_MASS_SCALES], np.zeros(4, bool), [], 0
-    while not np.all(fell | (info["heel_strikes"] >= steps)):
+    errors, fell, slow, frames, t = [[] for _ in LEG_MASS_SCALES], np.zeros(4, bool), np.zeros(4, bool), [], 0
+    while not np.all(fell | slow | (info["heel_strikes"] >= steps)):
         commands = [policy.command(o, {"stance_leg": leg}) for o, leg in zip(obs, info["stance_leg"])]
+        walking = ~(fell | slow | (info["heel_strikes"] >= steps))
         for i, cmd in enumerate(commands):
-            if not fell[i] and info["heel_strikes"][i] < steps:
+            if walking[i]:
                 errors[i].append(cmd.joints_ref - cmd.joints)
         if t % 5 == 0:  # 20 frames per time unit: a 2x2 mosaic of the four walkers
             top, bottom = np.split(np.array(vec.render()), 2)
             frames.append(np.concatenate([np.concatenate(top, axis=1), np.concatenate(bottom, axis=1)]))
-        obs, _, terminated, _, info = vec.step(np.array([c.action for c in commands], dtype=np.float32))
-        fell |= terminated
+        obs, _, terminated, truncated, info = vec.step(np.array([c.action for c in commands], dtype=np.float32))
+        fell |= terminated & walking
+        slow |= truncated & walking
         t += 1
     vec.close()
     gif = write_gif(Path(out), frames, fps=20)
     rms = [float(np.sqrt(np.mean(np.square(e)))) for e in errors]
-    for scale, err, down in zip(LEG_MASS_SCALES, rms, fell):
-        print(f"legs x{scale:.1f}: {'fell' if down else f'{steps} steps'}, tracking error RMS {err:.2e} rad")
+    for scale, err, down, late in zip(LEG_MASS_SCALES, rms, fell, slow):
+        outcome = "fell" if down else "out of time" if late else f"{steps} steps"
+        print(f"legs x{scale:.1f}: {outcome}, tracking error RMS {err:.2e} rad")
     print(f"wrote {gif} ({len(frames)} frames, {t} environment steps of {t * 0.01:.2f} time units)")
-    return {"rms": rms, "fell": fell.tolist(), "gif": gif}
+    return {"rms": rms, "fell": fell.tolist(), "out_of_time": slow.tolist(), "gif": gif}
 
 
 if __name__ == "__main__":

@@ -59,6 +59,7 @@ def test_track_demonstration_example(nominal_demo, tmp_path, capsys):
     spec.loader.exec_module(module)
     result = module.main(nominal_demo, out=str(tmp_path / "walk.gif"), steps=3)
     assert result["fell"] == [False] * 4
+    assert result["out_of_time"] == [False] * 4
     assert all(0 < rms < 0.05 for rms in result["rms"])  # rad (measured 1e-3..1e-2 over 10 steps)
     with Image.open(result["gif"]) as gif:
         assert gif.n_frames > 20 and gif.size == (480, 360)

@@ -9,8 +9,10 @@ after each heel strike and the feedback share measures that ringing more than th
 demonstration (nominal step: 48 % at 0.01 and 14 % at every 0.002 physics step; with
 v0's 0.0005 physics 37 % and 13 %; docs/environment.md). Reported: steps walked, tracking error (RMS and max over
 environment steps and the four actuated joints, rad), and the feedback share
-``sum |tau_fb| / (sum |tau_ff| + sum |tau_fb|)`` over every environment step and joint.
-The walk stops early on a fall (the environment's termination) or when a step lasts
+``sum |tau_fb| / (sum |tau_ff| + sum |tau_fb|)`` over every environment step and joint,
+the share of steps ending with the stance foot on the floor, and the swing foot's
+grazes (touchdowns short of the landing zone, which the environment does not count as
+heel strikes). The walk stops early on a fall (the environment's termination) or when a step lasts
 over :data:`MAX_STEP_FRACTION` times the demonstration's.
 """
 
@@ -24,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from envs.coordinates import other_leg
 from envs.physics import DEFAULT_CONTACT, HealthyRange
 from envs.tracking import PDGains, TrackingPolicy
 from ioc_bench.demo import Demonstration
@@ -56,7 +59,8 @@ class ClosedLoopResult:
         control_dt: time between the policy's decisions (the environment's ``dt``).
         times: (N,) times of the recorded frames (one per environment step).
         qpos: (N, 7) recorded states.
-        stance: (N,) the stance leg ("a" or "b") at each frame.
+        stance: (N,) the leg tracked in the stance role ("a" or "b") at each frame (the
+            environment's, or the next step's once the hip has passed the step's end).
         phase: (N,) reference time (phase) at each frame.
         joints: (N, 4) actual actuated joint angles, ``ACTUATORS`` (role) order.
         joints_ref: (N, 4) their reference.
@@ -66,6 +70,8 @@ class ClosedLoopResult:
         heel_strikes: times of the heel strikes.
         stance_contact: fraction of environment steps that ended with the stance foot on
             the floor (the optimizer's stance foot never leaves it).
+        grazes: touchdowns of the swing foot (after it had lifted off) that the
+            environment did not count as heel strikes (short of the landing zone).
         share_limit: feedback share at or above which the check fails.
     """
 
@@ -87,6 +93,7 @@ class ClosedLoopResult:
     tau_fb: np.ndarray
     heel_strikes: tuple[float, ...]
     stance_contact: float
+    grazes: int
     share_limit: float = FEEDBACK_SHARE_LIMIT
 
     @property
@@ -106,6 +113,7 @@ class ClosedLoopResult:
             "control_dt": self.control_dt,
             "step_durations": np.diff((0.0, *self.heel_strikes)).tolist(),
             "stance_contact": self.stance_contact,
+            "grazes": self.grazes,
             "distance": float(self.qpos[-1, 0] - self.qpos[0, 0]),
             "passed": self.passed,
         }
@@ -151,15 +159,21 @@ def closed_loop_replay(
     obs, info = env.reset()
     duration = policy.reference.duration
     frames, strikes, reason, step_start, touching = [], [], None, 0.0, []
+    grazes, swing_lifted = 0, False
     while len(strikes) < steps and reason is None:
         cmd = policy.command(obs, info)
         frames.append((env.data.time, env.state_vector()[: len(JOINTS)], cmd))
         obs, _, terminated, _, info = env.step(cmd.action)
         touching.append(info[f"contact_{info['stance_leg']}"])
+        swing_down = info[f"contact_{other_leg(info['stance_leg'])}"]
         now = float(env.data.time)
         if info["heel_strikes"] > len(strikes):
             strikes.append(now)
-            step_start = now
+            step_start, swing_lifted = now, False
+        elif swing_down and swing_lifted:
+            grazes, swing_lifted = grazes + 1, False
+        elif not swing_down:
+            swing_lifted = True
         if terminated:
             reason = env.healthy.fall_reason(env.data.qpos)
         elif now - step_start > MAX_STEP_FRACTION * duration:
@@ -168,7 +182,7 @@ def closed_loop_replay(
     frames.append((env.data.time, env.state_vector()[: len(JOINTS)], last))
     control_dt = env.dt
     env.close()
-    return _result(frames, steps, reason, policy.gains, strikes, control_dt, float(np.mean(touching)))
+    return _result(frames, steps, reason, policy.gains, strikes, control_dt, float(np.mean(touching)), grazes)
 
 
 def _result(
@@ -179,6 +193,7 @@ def _result(
     strikes: list[float],
     control_dt: float,
     stance_contact: float,
+    grazes: int,
 ) -> ClosedLoopResult:
     acted = [cmd for _, _, cmd in frames[:-1]]  # the last frame's decision is never applied
     err = np.array([c.joints_ref - c.joints for c in acted])
@@ -204,6 +219,7 @@ def _result(
         tau_fb=np.array([c.tau_fb for c in cmds]),
         heel_strikes=tuple(strikes),
         stance_contact=stance_contact,
+        grazes=grazes,
     )
 
 

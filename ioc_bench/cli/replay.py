@@ -94,16 +94,17 @@ def _print_report(r: dict[str, Any]) -> None:
         f"(limit {idr['tolerance']:g}); max {idr['max_residual']:.2e} at knot {idr['worst_knot']} "
         f"({idr['worst_dof']}), peak |tau| {idr['peak_torque']:.4f}"
     )
-    touchdown = "no early touchdown" if ol["touchdown_time"] is None else f"touchdown at t={ol['touchdown_time']:.3f}"
+    landed = "no landing" if ol["touchdown_time"] is None else f"landed at t={ol['touchdown_time']:.3f}"
     print(
         f"open loop         (reported)  final-state error {ol['final_position_error']:.2e} (positions), "
-        f"{ol['final_velocity_error']:.2e} (velocities) after {ol['duration']:.3f}; {touchdown}"
+        f"{ol['final_velocity_error']:.2e} (velocities) after {ol['duration']:.3f}; {landed}"
     )
     fell = "" if cl["fall_reason"] is None else f"; stopped: {cl['fall_reason']}"
     print(
         f"closed loop       {_verdict(cl['passed'])}  {cl['steps_walked']}/{cl['steps_requested']} steps, "
         f"tracking RMS {cl['tracking_rms']:.2e} rad (max {cl['tracking_max']:.2e}), "
-        f"feedback share {100 * cl['feedback_share']:.1f} % (limit {100 * cl['share_limit']:g} %){fell}"
+        f"feedback share {100 * cl['feedback_share']:.1f} % (limit {100 * cl['share_limit']:g} %), "
+        f"stance foot down {100 * cl['stance_contact']:.1f} %, {cl['grazes']} swing-foot grazes{fell}"
     )
     print("wrote    " + " and ".join(r["outputs"].values()))
 
@@ -114,5 +115,6 @@ def _print_summary(results: list[dict[str, Any]]) -> None:
         idr, cl = r["inverse_dynamics"], r["closed_loop"]
         print(
             f"  {_verdict(r['passed'])}  {r['demo']}: inverse dynamics {idr['relative_residual']:.1e}, walked "
-            f"{cl['steps_walked']}/{cl['steps_requested']} steps, feedback share {100 * cl['feedback_share']:.1f} %"
+            f"{cl['steps_walked']}/{cl['steps_requested']} steps, tracking RMS {cl['tracking_rms']:.1e} rad, "
+            f"feedback share {100 * cl['feedback_share']:.1f} %"
         )

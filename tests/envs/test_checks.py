@@ -47,7 +47,8 @@ def test_open_loop_starts_on_the_demonstration_and_reports_its_drift(nominal_dem
     assert ol.final_position_error == pytest.approx(ol.position_error[-1])
     # The physics step divides the knot spacing, so every knot is sampled exactly.
     assert ref.dt / ol.timestep == pytest.approx(round(ref.dt / ol.timestep), abs=1e-9)
-    # Not a pass/fail figure, but a sanity bound: one step does not drift far (measured ~1e-3).
+    # Not a pass/fail figure, but a sanity bound: one step does not drift far (measured 6.4e-2
+    # in v2 with the frictionless grazing swing foot; 0.49 when the graze was a scuff, v1).
     assert ol.final_position_error < 0.1
 
 
@@ -57,7 +58,7 @@ def test_closed_loop_walks_ten_steps_mostly_on_feed_forward(nominal_demo, nomina
     assert cl.fall_reason is None
     assert cl.feedback_share < FEEDBACK_SHARE_LIMIT
     assert cl.passed
-    assert cl.tracking_rms < 0.01  # rad (measured ~1e-3)
+    assert cl.tracking_rms < 0.01  # rad (measured 3.8e-3)
     assert cl.control_dt <= CHECK_CONTROL_DT
     # Legs swap at every heel strike and steps last about as long as the demonstration's.
     assert len(cl.heel_strikes) == 10
@@ -66,6 +67,9 @@ def test_closed_loop_walks_ten_steps_mostly_on_feed_forward(nominal_demo, nomina
     assert durations == pytest.approx(np.full(10, nominal_demo.trajectory.duration), rel=0.1)
     # The stance foot stays on the floor (measured: at every control step).
     assert cl.stance_contact > 0.95
+    # The swing foot grazes the ground mid-swing (as the demonstration's does), and no graze
+    # was taken for a heel strike (ten strikes, ten steps of the demonstration's duration).
+    assert cl.grazes >= 1
 
 
 def test_feedback_share_is_the_documented_ratio(nominal_closed_loop):

@@ -9,7 +9,7 @@ from gymnasium import wrappers
 
 from ioc_bench import Demonstration
 
-ENV_ID = "envs:IOCBench/PlanarWalker-v1"
+ENV_ID = "envs:IOCBench/PlanarWalker-v2"
 
 
 @pytest.mark.parametrize("mode", ["sync", "async"])
@@ -78,11 +78,12 @@ def test_seeding_makes_episodes_reproducible():
     assert not np.array_equal(rollout(3), rollout(4))
 
 
-def test_old_version_points_to_the_new_one():
+@pytest.mark.parametrize("old", ["v0", "v1"])
+def test_old_versions_point_to_the_new_one(old):
     import envs  # noqa: F401  (registers the id)
 
-    with pytest.raises(gym.error.DeprecatedEnv, match="v1"):
-        gym.make("IOCBench/PlanarWalker-v0")
+    with pytest.raises(gym.error.DeprecatedEnv, match="v2"):
+        gym.make(f"IOCBench/PlanarWalker-{old}")
 
 
 def test_async_vector_env_tracks_a_demonstration(nominal_demo: Demonstration):

@@ -19,7 +19,7 @@ from ioc_bench import Demonstration, WalkerParams
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.weights import parse_weights
 
-ENV_ID = "envs:IOCBench/PlanarWalker-v1"
+ENV_ID = "envs:IOCBench/PlanarWalker-v2"
 
 
 #: The passive checker's only complaints: unbounded observations, deliberate (Walker2d-v5 gets the same two).
@@ -169,7 +169,7 @@ def test_mujoco_rendering_with_egl():
     """MuJoCo's own renderer, where an EGL driver exists (skipped on pip-only machines)."""
     code = (
         "import gymnasium as gym, numpy as np\n"
-        "env = gym.make('envs:IOCBench/PlanarWalker-v1', render_mode='rgb_array', renderer='mujoco', "
+        "env = gym.make('envs:IOCBench/PlanarWalker-v2', render_mode='rgb_array', renderer='mujoco', "
         "width=64, height=48)\n"
         "env.reset(seed=0)\n"
         "img = env.render()\n"

@@ -9,9 +9,9 @@ import gymnasium as gym
 
 
 def test_make_with_module_prefix_registers_and_builds():
-    env = gym.make("envs:IOCBench/PlanarWalker-v1")
+    env = gym.make("envs:IOCBench/PlanarWalker-v2")
     assert env.spec is not None
-    assert env.spec.id == "IOCBench/PlanarWalker-v1"
+    assert env.spec.id == "IOCBench/PlanarWalker-v2"
     assert env.spec.max_episode_steps == 1000
     assert env.spec.entry_point == "envs.planar_walker:PlanarWalkerEnv"
     env.close()

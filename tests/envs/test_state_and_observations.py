@@ -1,4 +1,4 @@
-"""v1's state API, lossless observations, action checks, reward weights and the renderer choice."""
+"""The state API (v1 on), lossless observations, action checks, reward weights and the renderer choice."""
 
 from __future__ import annotations
 
@@ -69,10 +69,12 @@ def test_previous_torque_is_observed_as_applied():
     applied = action.astype(float)
     applied[2] = 1.0
     assert np.array_equal(split_observation(obs).previous_torque, applied)
-    # The dtau term of the next step is computed from exactly that torque.
+    # The dtau term of the next step is computed from exactly that torque (in the paper's
+    # units, N m and s for a 1 m, 1 kg walker: 0.001 sum (dtau / dt)^2 dt scales by g^2.5).
     info = env.step(np.zeros(4, dtype=np.float32))[4]
     prev = split_observation(obs).previous_torque
-    assert info["phi_dtau"] == pytest.approx(0.001 * np.sum((prev / env.dt) ** 2) * env.dt, rel=1e-12)
+    g = 9.81
+    assert info["phi_dtau"] == pytest.approx(g**2.5 * 0.001 * np.sum((prev / env.dt) ** 2) * env.dt, rel=1e-12)
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
@@ -115,10 +117,13 @@ def test_state_round_trip_keeps_the_gait_bookkeeping(nominal_demo: Demonstration
         assert not terminated
     snapshot = env.get_state()
     assert snapshot.stance_leg == "b" and snapshot.heel_strikes == 1
+    assert snapshot.landing_distance > 0  # from the demonstration's step length
     action = policy(obs, info)
     first = env.step(action)
-    fresh = PlanarWalkerEnv()
+    fresh = PlanarWalkerEnv()  # a standing start: landing distance 0, leg a's foot with friction
     fresh.set_state(snapshot)
+    assert fresh.get_state().landing_distance == snapshot.landing_distance
+    assert np.array_equal(fresh.model.geom_condim, env.model.geom_condim)  # leg b's foot has the friction now
     _same_step(first, fresh.step(action))
 
 
