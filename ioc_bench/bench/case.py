@@ -20,13 +20,14 @@ from ioc_bench._version import __version__
 from ioc_bench.bench.conditions import Condition, get_condition
 from ioc_bench.bench.demos import demonstration
 from ioc_bench.bench.observe import observe
-from ioc_bench.bench.scoring import trajectory_error, unit, weight_error
+from ioc_bench.bench.scoring import unit, weight_error
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.problem import IOCProblem, OracleSolution
 from ioc_bench.ioc.registry import AlgorithmError, check_config, get_algorithm, make_algorithm
+from ioc_bench.metrics import trajectory_error
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
 

@@ -68,25 +68,23 @@ def _noise(percent: float) -> Condition:
     )
 
 
-def _mass(percent: float) -> Condition:
-    word = "heavier" if percent > 0 else "lighter"
-    return Condition(
-        f"mass{percent:+g}",
-        f"IOC model: legs {abs(percent):g} % {word}, torso keeps the total",
-        ioc_leg_mass=1 + percent / 100,
-        axis="mass",
-        severity=percent,
-    )
+#: A model- or task-error axis: its description (with the size and direction of the error),
+#: the words for below and above the truth, and the Condition field it scales.
+_SCALED_AXES = {
+    "mass": ("IOC model: legs {size:g} % {word}, torso keeps the total", ("lighter", "heavier"), "ioc_leg_mass"),
+    "speed": ("IOC task {size:g} % {word} than the demonstration", ("slower", "faster"), "ioc_speed"),
+}
 
 
-def _speed(percent: float) -> Condition:
-    word = "faster" if percent > 0 else "slower"
+def _scaled(axis: str, percent: float) -> Condition:
+    """The IOC's model or task off by ``percent`` along ``axis``."""
+    text, words, field = _SCALED_AXES[axis]
     return Condition(
-        f"speed{percent:+g}",
-        f"IOC task {abs(percent):g} % {word} than the demonstration",
-        ioc_speed=1 + percent / 100,
-        axis="speed",
+        f"{axis}{percent:+g}",
+        text.format(size=abs(percent), word=words[percent > 0]),
+        axis=axis,
         severity=percent,
+        **{field: 1 + percent / 100},
     )
 
 
@@ -112,8 +110,8 @@ CONDITIONS: dict[str, Condition] = {
         Condition("speed", "IOC task 10 % faster than the demonstration", ioc_speed=1.1, axis="speed", severity=10),
         Condition("distractor", "3 distractor features added (true weight 0)", features=ALL_FEATURES),
         *(_noise(p) for p in (1, 2, 10)),
-        *(_mass(p) for p in (-20, -10, 20)),
-        *(_speed(p) for p in (-20, -10, 20)),
+        *(_scaled("mass", p) for p in (-20, -10, 20)),
+        *(_scaled("speed", p) for p in (-20, -10, 20)),
     )
 }
 #: The conditions of each robustness axis, by severity (ideal is severity 0 on every axis).

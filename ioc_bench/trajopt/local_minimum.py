@@ -16,6 +16,7 @@ from there.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Iterator
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -104,26 +105,23 @@ def verify_local_minimum(
 def _probe(solver, current: SolveResult, params, task, weights, rules, seed: int) -> tuple[SolveResult | None, float]:
     """The first probe cheaper than ``current``: a proximal step under perturbed weights,
     re-solved under ``weights``; and the largest relative decrease seen."""
-    cost = current.report.objective
     spans = signal_spans(current.trajectory)
     warm = StartPoint(current.x, current.lam_x, current.lam_g)
+    cost = current.report.objective
     ref, track = tracking_terms(current.trajectory, OBJECTIVE_SCALE * PROBE_PROXIMAL * abs(cost), spans)
     rng = np.random.default_rng([seed, 101])
-    largest = float("-inf")
     w = np.asarray(weights, dtype=float)
-    for _ in range(PROBES):
-        other = w * np.exp(PROBE_SPREAD * rng.normal(size=w.shape))
-        away = solver.solve(warm, params, task, other / np.linalg.norm(other), ref=ref, track=track, rules=rules)
-        if not away.report.success:
-            continue
-        back = solver.solve(StartPoint(away.x, away.lam_x, away.lam_g), params, task, weights, rules=rules)
-        if not back.report.success:
-            continue
-        decrease = (cost - back.report.objective) / abs(cost)
-        largest = max(largest, decrease)
-        if decrease > DECREASE_TOL:
-            return back, largest
-    return None, largest
+
+    def probes() -> Iterator[SolveResult]:
+        for _ in range(PROBES):
+            other = w * np.exp(PROBE_SPREAD * rng.normal(size=w.shape))
+            away = solver.solve(warm, params, task, other / np.linalg.norm(other), ref=ref, track=track, rules=rules)
+            if not away.report.success:
+                yield away
+                continue
+            yield solver.solve(StartPoint(away.x, away.lam_x, away.lam_g), params, task, weights, rules=rules)
+
+    return _first_cheaper(cost, probes())
 
 
 def _descend(solver, current: SolveResult, params, task, weights, rules) -> tuple[SolveResult | None, float]:
@@ -132,14 +130,24 @@ def _descend(solver, current: SolveResult, params, task, weights, rules) -> tupl
     cost = current.report.objective
     spans = signal_spans(current.trajectory)
     warm = StartPoint(current.x, current.lam_x, current.lam_g)
+
+    def steps() -> Iterator[SolveResult]:
+        for lam in PROXIMAL_LADDER:
+            ref, track = tracking_terms(current.trajectory, OBJECTIVE_SCALE * lam * abs(cost), spans)
+            yield solver.solve(warm, params, task, weights, ref=ref, track=track, rules=rules)
+
+    return _first_cheaper(cost, steps())
+
+
+def _first_cheaper(cost: float, solves: Iterable[SolveResult]) -> tuple[SolveResult | None, float]:
+    """The first successful solve more than DECREASE_TOL (relative) cheaper than ``cost``,
+    solving no further; and the largest relative decrease seen."""
     largest = float("-inf")
-    for lam in PROXIMAL_LADDER:
-        ref, track = tracking_terms(current.trajectory, OBJECTIVE_SCALE * lam * abs(cost), spans)
-        prox = solver.solve(warm, params, task, weights, ref=ref, track=track, rules=rules)
-        if not prox.report.success:
+    for result in solves:
+        if not result.report.success:
             continue
-        decrease = (cost - prox.report.objective) / abs(cost)
+        decrease = (cost - result.report.objective) / abs(cost)
         largest = max(largest, decrease)
         if decrease > DECREASE_TOL:
-            return prox, largest
+            return result, largest
     return None, largest
