@@ -4,6 +4,9 @@ The parent builds the trajectory solver before forking, so workers start at once
 worker runs one case and sends its result back through a pipe; the parent (the runner)
 writes it. A worker that dies without reporting becomes a failed result with its exit
 code; workers die with the parent (Linux), so a killed run leaves no orphaned cases.
+Each worker's numpy BLAS gets this machine's cores divided among the workers: unlimited,
+two workers with two BLAS threads each on 2 cores ran inverse-kkt's dense least squares
+2-3x slower (docs/speed.md). CasADi's own OpenBLAS (IPOPT's MUMPS) is not limited.
 """
 
 from __future__ import annotations
@@ -17,6 +20,8 @@ import signal
 import sys
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
+
+from threadpoolctl import threadpool_limits
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.executor import Job, execute, failure_of
@@ -53,7 +58,8 @@ class ProcessPool:
     def submit(self, job: Job) -> int:
         assert self._ctx is not None, "start() first"
         parent, child = self._ctx.Pipe(duplex=False)
-        process = self._ctx.Process(target=_work, args=(child, job), daemon=True)
+        threads = max(1, (os.cpu_count() or 1) // self.workers)
+        process = self._ctx.Process(target=_work, args=(child, job, threads), daemon=True)
         process.start()
         child.close()
         handle = next(self._ids)
@@ -83,10 +89,10 @@ class ProcessPool:
             self.cancel(handle)
 
 
-def _work(conn: Connection, job: Job) -> None:
+def _work(conn: Connection, job: Job, blas_threads: int) -> None:
     _die_with_parent()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent decides what to do on Ctrl-C
-    with contextlib.suppress(BrokenPipeError):
+    with threadpool_limits(limits=blas_threads), contextlib.suppress(BrokenPipeError):
         conn.send(execute(job).to_dict())
     conn.close()
 
