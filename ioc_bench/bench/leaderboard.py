@@ -181,7 +181,7 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         "",
         "**Versions:** " + ", ".join(f"{k} {val}" for k, val in v.items()),
         "",
-        _configs_line(cells),
+        _configs_line(cells, results),
         "",
         "| algorithm | family | condition | cases | weight error | 95 % CI | trajectory error (re-solved / found) "
         "| time (s) | forward solves | penalised weight largest | failures |",
@@ -264,11 +264,15 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
     return lines
 
 
-def _configs_line(cells: Sequence[Cell]) -> str:
-    """The header line saying which config each row used."""
+def _configs_line(cells: Sequence[Cell], results: Sequence[CaseResult]) -> str:
+    """The header line saying which config each row used, in full (e.g. where
+    ``log-barrier``'s forward solves start)."""
     configs = {c.label: c.config for c in cells}
+    effective = {run_label(r): r.config for r in results}
     parts = [
-        f"`{label}`: " + (f"defaults except `{json.dumps(cfg, sort_keys=True)}`" if cfg else "the algorithm's defaults")
+        f"`{label}`: "
+        + (f"defaults except `{json.dumps(cfg, sort_keys=True)}`" if cfg else "the algorithm's defaults")
+        + f" (in full: `{json.dumps(effective.get(label, {}), sort_keys=True)}`)"
         for label, cfg in configs.items()
     ]
     return "**Configs** (a row never mixes configs): " + "; ".join(parts) + "."

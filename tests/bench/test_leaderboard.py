@@ -92,7 +92,7 @@ def test_configs_never_share_a_cell_and_the_header_names_each(tmp_path, make_res
     write_result(tmp_path, CaseSpec("log-barrier", "nominal", "ideal", 0), defaults)
     write_result(tmp_path, CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": 1, "max_iterations": 2}), quick)
     md = markdown(load_results(tmp_path))
-    assert "`log-barrier`: the algorithm's defaults" in md
+    assert "`log-barrier`: the algorithm's defaults (in full: `" in md  # e.g. where its forward solves start
     assert '`log-barrier [cfg 05519c9f]`: defaults except `{"max_iterations": 2, "n_random": 1}`' in md
     assert "| log-barrier | - | ideal | 1 |" in md and "| log-barrier [cfg 05519c9f] | - | ideal | 1 |" in md
 
