@@ -96,10 +96,10 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
     cells = []
     for (label, cond), rs in sorted(groups.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 99), kv[0][1])):
         ok = [r for r in rs if not r.failed]
-        seeds_per_case = defaultdict(set)
-        for r in rs:
+        seeds_per_case = defaultdict(set)  # over successful cases: failures are not replicates
+        for r in ok:
             seeds_per_case[r.weight_set].add(r.seed)
-        enough = min(len(s) for s in seeds_per_case.values()) >= MIN_SEEDS_FOR_CI
+        enough = bool(ok) and min(len(s) for s in seeds_per_case.values()) >= MIN_SEEDS_FOR_CI
         checks = [c for c in (penalised_is_largest(r) for r in rs) if c is not None]
         cells.append(
             Cell(

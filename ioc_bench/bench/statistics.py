@@ -18,14 +18,14 @@ RESAMPLES = 9999
 
 
 def bootstrap_mean_ci(values: Sequence[float], seed: int = 0) -> tuple[float, float] | None:
-    """95 % percentile-bootstrap interval of the mean of the finite ``values`` (None if empty;
-    a point if fewer than two differ)."""
+    """95 % percentile-bootstrap interval of the mean of the finite ``values`` (None if fewer
+    than two; a point if all are equal)."""
     from scipy.stats import bootstrap
 
     arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
-    if arr.size == 0:
+    if arr.size < 2:
         return None
-    if arr.size < 2 or np.ptp(arr) == 0:
+    if np.ptp(arr) == 0:
         return float(arr.mean()), float(arr.mean())
     res = bootstrap(
         (arr,),

@@ -124,3 +124,15 @@ def test_a_board_written_into_the_results_is_not_read_back(results_dir, capsys):
         assert main(["leaderboard", str(results_dir), "--out", str(board), "--json"]) == 0
         report = json.loads(capsys.readouterr().out)
         assert sum(c["cases"] for c in report["cells"]) == 13
+
+
+def test_no_interval_where_failures_leave_too_few_replicates(make_result):
+    """Three seeds of which two failed leave one value per weight set: no interval, only the mean."""
+    results = [
+        make_result(weight_set=w, seed=s, failed=s > 0, weight_error=0.1 * (i + 1))
+        for i, w in enumerate(("nominal", "penalize-hip"))
+        for s in (0, 1, 2)
+    ]
+    (cell,) = summarise(results)
+    assert cell.failures == 4 and cell.weight_error == pytest.approx(0.15)
+    assert cell.weight_error_ci is None
