@@ -2,8 +2,8 @@
 
 Never edit the written files by hand: ``ioc-bench leaderboard results/ --out leaderboards/``
 rewrites ``README.md`` (Markdown) and ``leaderboard.json`` from the results. With 3 or more
-seeds per case a 95 % bootstrap confidence interval of the mean weight error is given, over
-the cell's independent cases (:mod:`ioc_bench.bench.statistics`). Robustness-suite results
+seeds per weight set a 95 % bootstrap confidence interval of the mean weight error is
+given, resampling seeds within each weight set (:mod:`ioc_bench.bench.statistics`). Robustness-suite results
 add a table of robustness AUCs (:mod:`ioc_bench.bench.robustness`).
 
 Results of different configs of one algorithm never share a cell: a row is an algorithm
@@ -30,7 +30,7 @@ from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import CONDITIONS
 from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
-from ioc_bench.bench.statistics import RESAMPLES, bootstrap_mean_ci
+from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.fileio import atomic_write_many, json_text
 
 #: Minimum seeds per case for a bootstrap confidence interval.
@@ -112,7 +112,7 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 failures=len(rs) - len(ok),
                 seeds=tuple(sorted({r.seed for r in rs})),
                 weight_error=_mean([r.weight_error for r in ok]),
-                weight_error_ci=bootstrap_mean_ci([r.weight_error for r in ok]) if enough else None,
+                weight_error_ci=stratified_mean_ci(_by_weight_set(ok)) if enough else None,
                 trajectory_error=_mean([r.trajectory_error for r in ok]),
                 found_trajectory_error=_mean(
                     [r.found_trajectory_error for r in ok if r.found_trajectory_error is not None]
@@ -170,10 +170,12 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         f"**Seeds:** {', '.join(map(str, seeds))}. A seed is a new experiment: it re-solves the demonstration "
         "from its own multi-start, draws its own observation noise and seeds the algorithm. "
         + (
-            f"The 95 % interval is a percentile bootstrap ({RESAMPLES} resamples) of the mean weight error over a "
-            "cell's cases (weight sets x seeds), each an independent experiment; it covers the variation of a "
-            f"repeated study with these weight sets, not of other weight sets. Given where every weight set has "
-            f"{MIN_SEEDS_FOR_CI}+ seeds."
+            f"The 95 % interval is a percentile bootstrap ({RESAMPLES} resamples) of the cell's mean weight error "
+            "that resamples the seeds within each weight set (the weight sets are a fixed design, not a sample): it "
+            "covers what repeating the study with these weight sets would give, not other weight sets. The "
+            "demonstrations of different seeds agree to 1e-5 (one basin), so without noise a deterministic "
+            "algorithm gives one value per weight set and its interval is a point. Given where every weight set "
+            f"has {MIN_SEEDS_FOR_CI}+ successful seeds."
             if any(c.weight_error_ci for c in cells)
             else f"No confidence intervals: they need {MIN_SEEDS_FOR_CI}+ seeds per weight set; "
             "this is a single run, so small differences are not significant."
@@ -262,6 +264,13 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
             f"| {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {r.wall_time:.1f} | {r.n_solves} |"
         )
     return lines
+
+
+def _by_weight_set(results: Sequence[CaseResult]) -> list[list[float]]:
+    groups: dict[str, list[float]] = defaultdict(list)
+    for r in results:
+        groups[r.weight_set].append(r.weight_error)
+    return list(groups.values())
 
 
 def _configs_line(cells: Sequence[Cell], results: Sequence[CaseResult]) -> str:

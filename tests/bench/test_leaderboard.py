@@ -60,7 +60,7 @@ def test_written_files_state_method_seeds_and_versions(results_dir, tmp_path):
     md = md_path.read_text()
     assert "never edited by hand" in md and "**Method.**" in md and "**Seeds:** 0, 1, 2" in md
     assert "casadi" in md and "percentile bootstrap" in md and "| algo | - | ideal | 6 |" in md
-    assert "each an independent experiment" in md  # the header says what the interval covers
+    assert "resamples the seeds within each weight set" in md  # the header says what the interval covers
     data = json.loads(json_path.read_text())
     assert {c["condition"] for c in data["cells"]} == {"ideal", "noise", "mass"}
     assert len(data["cases"]) == 13
