@@ -33,8 +33,9 @@ from ioc_bench.fileio import atomic_write_json, remove_temporaries
 from ioc_bench.ioc.registry import NAME_PATTERN, canonical_config, check_config, check_name, config_overrides
 from ioc_bench.weights import parse_weights
 
-#: File name of a case result inside its algorithm's folder.
-RESULT_NAME = re.compile(r"[A-Za-z0-9._-]+__[A-Za-z0-9._-]+__seed[0-9]+(__cfg[0-9a-f]{8})?\.json")
+#: File name of a case result inside its algorithm's folder (condition names may hold a
+#: sign, as the robustness suite's ``mass+20``).
+RESULT_NAME = re.compile(r"[A-Za-z0-9._-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__cfg[0-9a-f]{8})?\.json")
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
 
