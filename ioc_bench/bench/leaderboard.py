@@ -32,6 +32,7 @@ from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.fileio import atomic_write_many, json_text
+from ioc_bench.weights import WEIGHT_SETS
 
 #: Minimum seeds per case for a bootstrap confidence interval.
 MIN_SEEDS_FOR_CI = 3
@@ -87,11 +88,17 @@ def penalised_is_largest(result: CaseResult) -> bool | None:
     return int(np.argmax(result.weights)) == result.features.index(feature)
 
 
+def row_condition(result: CaseResult) -> str:
+    """The row a result belongs to: its condition, apart for weight sets other than the
+    paper's four (the ``unseen`` suite), so a row never mixes the two designs."""
+    return result.condition if result.weight_set in WEIGHT_SETS else f"{result.condition}, other weight sets"
+
+
 def summarise(results: Sequence[CaseResult]) -> list[Cell]:
     """One :class:`Cell` per (algorithm, config, condition), conditions in catalogue order."""
     groups: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
     for r in results:
-        groups[(run_label(r), r.condition)].append(r)
+        groups[(run_label(r), row_condition(r))].append(r)
     order = {c: i for i, c in enumerate(CONDITIONS)}
     cells = []
     for (label, cond), rs in sorted(groups.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 99), kv[0][1])):

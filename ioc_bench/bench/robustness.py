@@ -21,6 +21,7 @@ from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition
 from ioc_bench.bench.results import run_label
 from ioc_bench.bench.statistics import bootstrap_mean_ci
+from ioc_bench.bench.suites import get_suite
 
 
 @dataclass(frozen=True)
@@ -61,10 +62,14 @@ MIN_POINTS = 3
 
 
 def curves(results: Sequence[CaseResult]) -> list[Curve]:
-    """Every (row, axis) curve the results have points for (at least :data:`MIN_POINTS`)."""
+    """Every (row, axis) curve the results have points for (at least :data:`MIN_POINTS`),
+    over the ``robustness`` suite's design only (its weight sets and seeds), so that every
+    point, the ideal one included, holds the same cases."""
+    design = get_suite("robustness")
     by: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
     for r in results:
-        by[(run_label(r), r.condition)].append(r)
+        if r.weight_set in design.weight_sets and r.seed in design.seeds:
+            by[(run_label(r), r.condition)].append(r)
     out = []
     for label in sorted({k[0] for k in by}):
         for axis in AXES:

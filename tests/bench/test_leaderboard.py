@@ -136,3 +136,12 @@ def test_no_interval_where_failures_leave_too_few_replicates(make_result):
     (cell,) = summarise(results)
     assert cell.failures == 4 and cell.weight_error == pytest.approx(0.15)
     assert cell.weight_error_ci is None
+
+
+def test_other_weight_sets_get_their_own_row(make_result):
+    """The unseen suite's weight sets (one seed) never share a row with the paper's four (three seeds)."""
+    paper = [make_result(weight_set=w, seed=s) for w in ("nominal", "penalize-hip") for s in (0, 1, 2)]
+    other = [make_result(weight_set="3,1,5", seed=0)]
+    cells = {c.condition: c for c in summarise(paper + other)}
+    assert cells["ideal"].cases == 6 and cells["ideal"].weight_error_ci is not None
+    assert cells["ideal, other weight sets"].cases == 1
