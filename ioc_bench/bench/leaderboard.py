@@ -179,10 +179,9 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         + (
             f"The 95 % interval is a percentile bootstrap ({RESAMPLES} resamples) of the cell's mean weight error "
             "that resamples the seeds within each weight set (the weight sets are a fixed design, not a sample): it "
-            "covers what repeating the study with these weight sets would give, not other weight sets. The "
-            "demonstrations of different seeds agree to 1e-5 (one basin), so without noise a deterministic "
-            "algorithm gives one value per weight set and its interval is a point. Given where every weight set "
-            f"has {MIN_SEEDS_FOR_CI}+ successful seeds."
+            "covers what repeating the study with these weight sets would give, not other weight sets. "
+            + _demo_spread_sentence(results)
+            + f"Given where every weight set has {MIN_SEEDS_FOR_CI}+ successful seeds."
             if any(c.weight_error_ci for c in cells)
             else f"No confidence intervals: they need {MIN_SEEDS_FOR_CI}+ seeds per weight set; "
             "this is a single run, so small differences are not significant."
@@ -271,6 +270,33 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
             f"| {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {r.wall_time:.1f} | {r.n_solves} |"
         )
     return lines
+
+
+def demo_spread(results: Sequence[CaseResult]) -> float | None:
+    """Largest relative difference of a demonstration feature between seeds of the same
+    weight set and speed (None if no demonstration was solved for two seeds)."""
+    by: dict[tuple[str, float], list[dict[str, float]]] = defaultdict(list)
+    for r in results:
+        if r.demo_features:
+            by[(r.weight_set, r.demo_speed)].append(r.demo_features)
+    spreads = [
+        (max(vals) - min(vals)) / max(abs(v) for v in vals)
+        for demos in by.values()
+        if len(demos) > 1
+        for vals in ([d[f] for d in demos] for f in demos[0])
+        if max(abs(v) for v in vals) > 0
+    ]
+    return max(spreads) if spreads else None
+
+
+def _demo_spread_sentence(results: Sequence[CaseResult]) -> str:
+    spread = demo_spread(results)
+    if spread is None or spread > 1e-3:
+        return ""
+    return (
+        f"The demonstrations of different seeds differ by at most {spread:.1g} (relative) in any feature: "
+        "without noise a deterministic algorithm gives one value per weight set, and its interval is a point. "
+    )
 
 
 def _by_weight_set(results: Sequence[CaseResult]) -> list[list[float]]:

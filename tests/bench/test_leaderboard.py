@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from ioc_bench.bench.case import failure
-from ioc_bench.bench.leaderboard import markdown, penalised_is_largest, summarise, write_leaderboard
+from ioc_bench.bench.leaderboard import demo_spread, markdown, penalised_is_largest, summarise, write_leaderboard
 from ioc_bench.bench.results import CaseSpec, load_results, write_result
 from ioc_bench.cli import main
 
@@ -145,3 +146,11 @@ def test_other_weight_sets_get_their_own_row(make_result):
     cells = {c.condition: c for c in summarise(paper + other)}
     assert cells["ideal"].cases == 6 and cells["ideal"].weight_error_ci is not None
     assert cells["ideal, other weight sets"].cases == 1
+
+
+def test_the_header_says_when_seeds_repeat_the_demonstration(make_result):
+    """Identical demonstrations across seeds are stated (intervals are then points); different ones are not."""
+    same = [dataclasses.replace(make_result(seed=s), demo_features={"hip": 0.1, "knee": 0.2}) for s in (0, 1, 2)]
+    assert demo_spread(same) == 0.0 and "differ by at most 0 (relative)" in markdown(same)
+    other = [dataclasses.replace(r, demo_features={"hip": 0.1 * (1 + r.seed), "knee": 0.2}) for r in same]
+    assert demo_spread(other) == pytest.approx(2 / 3) and "differ by at most" not in markdown(other)
