@@ -6,7 +6,7 @@ multi-start, draws its own observation noise and seeds the algorithm's randomnes
 weight sets are chosen, not sampled. So the cell's interval resamples seeds *within* each
 weight set (a stratified percentile bootstrap of the mean, :func:`stratified_mean_ci`) and
 covers what repeating the study with these weight sets would give. Measured: the
-15-start demonstrations of different seeds agree to 1e-5 (the optimum has one basin;
+15-start demonstrations of different seeds agree to 1e-5 in their angles (the optimum has one basin;
 `docs/gait_regime.md`), so without noise a deterministic algorithm returns one value per
 weight set and its interval is a point. That is the honest answer, not a lack of data.
 
