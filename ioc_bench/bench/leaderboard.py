@@ -3,8 +3,8 @@
 Never edit the written files by hand: ``ioc-bench leaderboard results/ --out leaderboards/``
 rewrites ``README.md`` (Markdown) and ``leaderboard.json`` from the results. With 3 or more
 seeds per weight set a 95 % bootstrap confidence interval of the mean weight error is
-given, resampling seeds within each weight set (:mod:`ioc_bench.bench.statistics`). Robustness-suite results
-add a table of robustness AUCs (:mod:`ioc_bench.bench.robustness`).
+given, resampling seeds within each weight set (:mod:`ioc_bench.bench.statistics`).
+Robustness-suite results add a table of robustness AUCs (:mod:`ioc_bench.bench.robustness`).
 
 Results of different configs of one algorithm never share a cell: a row is an algorithm
 with one config (its defaults, or ``[cfg <digest>]`` with the fields that differ listed
@@ -103,10 +103,8 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
     cells = []
     for (label, cond), rs in sorted(groups.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 99), kv[0][1])):
         ok = [r for r in rs if not r.failed]
-        seeds_per_case = defaultdict(set)  # over successful cases: failures are not replicates
-        for r in ok:
-            seeds_per_case[r.weight_set].add(r.seed)
-        enough = bool(ok) and min(len(s) for s in seeds_per_case.values()) >= MIN_SEEDS_FOR_CI
+        strata = _by_weight_set(ok)  # successful cases only: failures are not replicates
+        enough = bool(strata) and min(len({r.seed for r in g}) for g in strata) >= MIN_SEEDS_FOR_CI
         checks = [c for c in (penalised_is_largest(r) for r in rs) if c is not None]
         cells.append(
             Cell(
@@ -119,7 +117,7 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 failures=len(rs) - len(ok),
                 seeds=tuple(sorted({r.seed for r in rs})),
                 weight_error=_mean([r.weight_error for r in ok]),
-                weight_error_ci=stratified_mean_ci(_by_weight_set(ok)) if enough else None,
+                weight_error_ci=stratified_mean_ci([[r.weight_error for r in g] for g in strata]) if enough else None,
                 trajectory_error=_mean([r.trajectory_error for r in ok]),
                 found_trajectory_error=_mean(
                     [r.found_trajectory_error for r in ok if r.found_trajectory_error is not None]
@@ -299,10 +297,10 @@ def _demo_spread_sentence(results: Sequence[CaseResult]) -> str:
     )
 
 
-def _by_weight_set(results: Sequence[CaseResult]) -> list[list[float]]:
-    groups: dict[str, list[float]] = defaultdict(list)
+def _by_weight_set(results: Sequence[CaseResult]) -> list[list[CaseResult]]:
+    groups: dict[str, list[CaseResult]] = defaultdict(list)
     for r in results:
-        groups[r.weight_set].append(r.weight_error)
+        groups[r.weight_set].append(r)
     return list(groups.values())
 
 

@@ -43,6 +43,7 @@ class ProcessPool:
         if address is not None:
             raise ValueError("--address is for the ray executor; the local executor runs on this machine")
         self.workers = check_count(workers, "workers", optional=True) or os.cpu_count() or 1
+        self._blas_threads = max(1, (os.cpu_count() or 1) // self.workers)  # each worker's share
         self._running: dict[int, _Worker] = {}
         self._ids = itertools.count()
         self._ctx: mp.context.BaseContext | None = None
@@ -58,8 +59,7 @@ class ProcessPool:
     def submit(self, job: Job) -> int:
         assert self._ctx is not None, "start() first"
         parent, child = self._ctx.Pipe(duplex=False)
-        threads = max(1, (os.cpu_count() or 1) // self.workers)
-        process = self._ctx.Process(target=_work, args=(child, job, threads), daemon=True)
+        process = self._ctx.Process(target=_work, args=(child, job, self._blas_threads), daemon=True)
         process.start()
         child.close()
         handle = next(self._ids)
