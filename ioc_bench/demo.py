@@ -13,7 +13,7 @@ import math
 import os
 import typing
 import zipfile
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -128,7 +128,7 @@ class Demonstration:
     @classmethod
     def _from_arrays(cls, arrays: dict[str, np.ndarray]) -> Demonstration:
         meta = _meta(arrays)
-        traj_fields = [f.name for f in fields(Trajectory)]
+        traj_fields = Trajectory.array_names()
         missing = [n for n in traj_fields if _TRAJ_PREFIX + n not in arrays]
         if missing:
             raise ValueError(f"missing trajectory arrays {missing}")

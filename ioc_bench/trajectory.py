@@ -33,12 +33,19 @@ class Observation:
         v: (T, S, 3) segment velocities.
         tau: (T, A) actuated joint torques (A actuators, storage order), or None when the
             torques were not measured.
+        measured: which of the step's :meth:`signals` columns were measured (positions,
+            then velocities, then torques), or None for all of them (torques only if
+            ``tau`` is given). Unmeasured entries of ``q`` and ``v`` still hold values (an
+            estimate, e.g. from the measured angles), used only as a solver's first guess;
+            :meth:`signals` reports them as NaN, so no metric or tracking term sees them.
+            A human step, for example, measures the leg segments' angles and rates only.
     """
 
     dt: float
     q: np.ndarray
     v: np.ndarray
     tau: np.ndarray | None
+    measured: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n_knots = np.shape(self.q)[0]
@@ -46,7 +53,7 @@ class Observation:
             raise ValueError(f"{type(self).__name__.lower()} dt must be positive, got {self.dt}")
         for f in fields(self):
             value = getattr(self, f.name)
-            if f.name == "dt" or value is None:
+            if f.name in ("dt", "measured") or value is None:
                 continue
             arr = np.asarray(value, dtype=float)
             if not np.all(np.isfinite(arr)):
@@ -58,6 +65,17 @@ class Observation:
             raise ValueError(f"a Hermite-Simpson step needs an odd number >= 3 of knots, got {n_knots}")
         if np.shape(self.v) != np.shape(self.q):
             raise ValueError(f"v has shape {np.shape(self.v)}, q has {np.shape(self.q)}")
+        if self.measured is not None:
+            object.__setattr__(self, "measured", self._check_mask(self.measured))
+
+    def _check_mask(self, measured: object) -> np.ndarray:
+        mask = np.asarray(measured)
+        n = 2 * self.q[0].size + (0 if self.tau is None else self.tau.shape[1])
+        if mask.dtype != bool or mask.shape != (n,):
+            raise ValueError(f"measured must be a boolean mask of {n} signal columns, got {mask.dtype} {mask.shape}")
+        if not mask.any():
+            raise ValueError("measured marks no signal as measured")
+        return mask
 
     @property
     def n_knots(self) -> int:
@@ -86,18 +104,26 @@ class Observation:
         (``n_actuators`` columns of them)."""
         t = self.n_knots
         tau = self.tau if self.tau is not None else np.full((t, n_actuators or 0), np.nan)
-        return np.concatenate([self.q.reshape(t, -1), self.v.reshape(t, -1), tau], axis=1)
+        out = np.concatenate([self.q.reshape(t, -1), self.v.reshape(t, -1), tau], axis=1)
+        if self.measured is not None:
+            out[:, : self.measured.size][:, ~self.measured] = np.nan
+        return out
 
     def observed(self) -> Observation:
         """Only what is measured of this step (drops everything a trajectory adds)."""
-        return Observation(self.dt, self.q, self.v, self.tau)
+        return Observation(self.dt, self.q, self.v, self.tau, self.measured)
 
     def with_signals(self, signals: np.ndarray) -> Observation:
-        """An observation with the same knots whose signals (:meth:`signals` layout) are given."""
-        nq = self.q[0].size
-        tau = None if self.tau is None else signals[:, 2 * nq :]
+        """An observation with the same knots whose signals (:meth:`signals` layout) are given;
+        where ``signals`` is NaN (an unmeasured column) this observation's values stay."""
+        t, nq = self.n_knots, self.q[0].size
+        parts = [self.q.reshape(t, -1), self.v.reshape(t, -1)] + ([] if self.tau is None else [self.tau])
+        own = np.concatenate(parts, axis=1)
+        given = np.asarray(signals, dtype=float)[:, : own.shape[1]]
+        sig = np.where(np.isnan(given), own, given)
+        tau = None if self.tau is None else sig[:, 2 * nq :]
         return Observation(
-            self.dt, signals[:, :nq].reshape(self.q.shape), signals[:, nq : 2 * nq].reshape(self.v.shape), tau
+            self.dt, sig[:, :nq].reshape(self.q.shape), sig[:, nq : 2 * nq].reshape(self.v.shape), tau, self.measured
         )
 
 
@@ -123,14 +149,21 @@ class Trajectory(Observation):
     lock_impulses: np.ndarray = None  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
-        missing = [f.name for f in fields(self) if getattr(self, f.name) is None]
+        if self.measured is not None:
+            raise ValueError("a trajectory is fully known: it takes no measured mask")
+        missing = [name for name in self.array_names() if getattr(self, name) is None]
         if missing:
             raise ValueError(f"trajectory is missing {missing}")
         super().__post_init__()
 
+    @classmethod
+    def array_names(cls) -> tuple[str, ...]:
+        """The names of a trajectory's arrays (every field but the measurement mask)."""
+        return tuple(f.name for f in fields(cls) if f.name != "measured")
+
     def to_arrays(self) -> dict[str, np.ndarray]:
-        return {f.name: np.asarray(getattr(self, f.name), dtype=float) for f in fields(self)}
+        return {name: np.asarray(getattr(self, name), dtype=float) for name in self.array_names()}
 
     @classmethod
     def from_arrays(cls, arrays: dict[str, np.ndarray]) -> Trajectory:
-        return cls(**{f.name: arrays[f.name] for f in fields(cls)})
+        return cls(**{name: arrays[name] for name in cls.array_names()})
