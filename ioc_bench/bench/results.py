@@ -1,6 +1,7 @@
 """Result files: one JSON per case, named by the case, written atomically.
 
-Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__cfg<hash>].json``.
+Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__model-<model>][__cfg<hash>].json``
+(the walker's cases name no model: their files are as before models).
 The config is part of a case's identity in its canonical form (the fields that differ
 from the algorithm's defaults, :func:`~ioc_bench.ioc.registry.canonical_config`): a
 config that only spells out defaults names the same file as no config at all.
@@ -14,83 +15,31 @@ in the folder), and every problem with one is a :class:`ResultFileError` naming 
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import os
 import re
 import typing
-from collections.abc import Iterator, Mapping
-from dataclasses import MISSING, dataclass, field, fields
+from collections.abc import Iterator
+from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import get_condition
-from ioc_bench.checks import TypeMismatch, check_seed, coerce
+from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
+from ioc_bench.checks import TypeMismatch, coerce
 from ioc_bench.fileio import atomic_write_json, remove_temporaries
-from ioc_bench.ioc.registry import NAME_PATTERN, canonical_config, check_config, check_name, config_overrides
-from ioc_bench.weights import parse_weights
+from ioc_bench.ioc.registry import NAME_PATTERN, config_overrides
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``).
-RESULT_NAME = re.compile(r"[A-Za-z0-9._-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__cfg[0-9a-f]{8})?\.json")
+RESULT_NAME = re.compile(
+    r"[A-Za-z0-9._-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__cfg[0-9a-f]{8})?\.json"
+)
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
 
 
 class ResultFileError(ValueError):
     """A result file (or results directory) is missing, unreadable or malformed."""
-
-
-@dataclass(frozen=True)
-class CaseSpec:
-    """What identifies a case (everything ``run_case`` needs), checked when made.
-
-    Raises ``ValueError`` (one line) for an unsafe algorithm name, an unknown weight set
-    or condition, a seed that is not a non-negative integer, or a bad config; ``config``
-    is stored in canonical form (which needs the algorithm to be registered, unless it
-    is empty).
-    """
-
-    algorithm: str
-    weight_set: str
-    condition: str
-    seed: int
-    config: Mapping[str, Any] = field(default_factory=dict)
-    #: (3,) unit true weights over (hip, knee, dtau), parsed once from ``weight_set``.
-    true_weights: np.ndarray = field(init=False, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        check_name(self.algorithm)
-        if not isinstance(self.weight_set, str):
-            raise ValueError(f"a case's weight set is a name or 'hip,knee,dtau' text, got {self.weight_set!r}")
-        object.__setattr__(self, "true_weights", parse_weights(self.weight_set))
-        get_condition(self.condition)
-        check_seed(self.seed)
-        config = check_config(self.config)
-        object.__setattr__(self, "config", canonical_config(self.algorithm, config) if config else {})
-
-    @property
-    def key(self) -> str:
-        """Relative path of the case's result file, without suffix."""
-        name = f"{_safe(self.weight_set)}__{self.condition}__seed{self.seed}"
-        if self.config:
-            name += f"__cfg{config_digest(self.config)}"
-        return f"{self.algorithm}/{name}"
-
-    def path(self, root: str | os.PathLike) -> Path:
-        return Path(root) / f"{self.key}.json"
-
-
-def config_digest(config: Mapping[str, Any]) -> str:
-    """Eight hex digits naming a canonical config (in file names and leaderboards)."""
-    return hashlib.sha256(json.dumps(dict(config), sort_keys=True).encode()).hexdigest()[:8]
-
-
-def _safe(text: str) -> str:
-    return "".join(c if c.isalnum() or c in "-._" else "_" for c in text)
 
 
 def result_config(result: CaseResult) -> dict[str, Any]:

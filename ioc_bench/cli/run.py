@@ -14,7 +14,15 @@ import sys
 from pathlib import Path
 
 from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
-from ioc_bench.cli.common import add_json_flag, json_object, positive_float, positive_int, print_json, usage_errors
+from ioc_bench.cli.common import (
+    add_json_flag,
+    add_model_arg,
+    json_object,
+    positive_float,
+    positive_int,
+    print_json,
+    usage_errors,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,6 +38,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--time-limit", type=positive_float, default=DEFAULT_TIME_LIMIT, help=time_help)
     p.add_argument("--keep-failed", action="store_true", help="do not retry cases whose stored result is a failure")
     p.add_argument("--list", action="store_true", help="list the suites and exit")
+    add_model_arg(p, default=None)
     add_json_flag(p)
     p.set_defaults(run=run)
 
@@ -44,10 +53,10 @@ def run(args: argparse.Namespace) -> int:
     if args.list:
         for suite in SUITES.values():
             n = len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds)
-            print(f"{suite.name:<14} {n:3d} cases  {suite.description}")
+            print(f"{suite.name:<14} {n:3d} cases  {suite.model:<8} {suite.description}")
         return 0
     with usage_errors():
-        specs = get_suite(args.suite).cases(args.algorithm, args.config)
+        specs = get_suite(args.suite).cases(args.algorithm, args.config, model=args.model)
         plan = plan_run(
             specs, args.out, args.workers, args.time_limit, args.executor, args.address, keep_failed=args.keep_failed
         )
