@@ -13,8 +13,10 @@ body weights). Results are appended to the JSON as they come (rerunning resumes)
     python studies/human_steps.py --subjects WBDS01 --out docs/data/human_steps.json
     python studies/human_steps.py --subjects WBDS01 --probes docs/data/human_steps.json
     python studies/human_steps.py --subjects WBDS01 --basins docs/data/human_steps.json
+    python studies/human_steps.py --compact docs/data/human_steps.json
     python studies/human_steps.py --tables docs/data/human_steps.json
     python studies/human_steps.py --figure docs/figures/human_steps.png --subject WBDS01 docs/data/human_steps.json
+    python studies/human_steps.py --basin-figure docs/figures/human_basins.png
 
 One core; about 10 minutes per subject on a loaded 2-core machine.
 """
@@ -35,7 +37,7 @@ from ioc_bench.human import WbdsData, human_step, segment_rmse_deg, walker_groun
 from ioc_bench.human.observe import leg_angles
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.optimize import optimize_gait
-from ioc_bench.weights import normalize
+from ioc_bench.weights import normalize, parse_weights
 
 SPEEDS = ("T03", "T04", "T05", "T06")
 #: Nominal solves: (starts, local-minimum check).
@@ -121,6 +123,7 @@ BASIN_STARTS = 8
 def basins(subjects: list[str], out: Path) -> None:
     """Per start of an 8-start multi-start (starts are nested: the first 2 and 4 are those
     of a 2- and 4-start solve): status, objective, fit. Does a cheaper optimum fit better?"""
+    from ioc_bench.features import model_features
     from ioc_bench.model.walker import WALKER
     from ioc_bench.trajopt.initial_guess import multistart_guesses
     from ioc_bench.trajopt.multistart import solve_starts
@@ -141,7 +144,8 @@ def basins(subjects: list[str], out: Path) -> None:
             )
             points = [StartPoint(layout.pack(blocks)) for _, blocks in tried]
             t0 = time.perf_counter()
-            solved = solve_starts(points, step.params, step.task, normalize(weights), DEFAULT_INTERVALS, workers=1)
+            w = parse_weights(weights, model_features(WALKER))
+            solved = solve_starts(points, step.params, step.task, w, DEFAULT_INTERVALS, workers=1)
             entry[label] = {
                 "wall_s": round(time.perf_counter() - t0, 1),
                 "starts": [
@@ -206,6 +210,21 @@ def _best(entry: dict) -> tuple[str, dict]:
     return name, ok[name]
 
 
+def interval_means(force) -> np.ndarray:
+    """(M, 2) each Hermite-Simpson interval's mean force (Simpson weights 1, 4, 1 over its
+    knots and midpoint): the walker's midpoint pin forces alternate near heel strike, their
+    interval means (impulse over duration) do not."""
+    f = np.asarray(force, dtype=float)
+    return (f[0:-1:2] + 4 * f[1::2] + f[2::2]) / 6
+
+
+def _force_rmse(walker, human) -> tuple[float, float]:
+    """Vertical force RMSE (body weights) of the interval means: all intervals, and without
+    the first and last (the walker's impact transient on a rigid point foot)."""
+    d = interval_means(walker)[:, 1] - interval_means(human)[:, 1]
+    return float(np.sqrt(np.mean(d**2))), float(np.sqrt(np.mean(d[1:-1] ** 2)))
+
+
 def tables(path: Path) -> None:
     results = json.loads(path.read_text())
     print("### The human tasks and the subject's walker\n")
@@ -236,7 +255,8 @@ def tables(path: Path) -> None:
     print("\n### Weight grid (2 starts, 22 directions): fit of the leg segment angles\n")
     print(
         "| trial | failed solves | nominal RMSE (deg) | best RMSE (deg) | best lattice point (hip, knee, dtau) | "
-        "best weights (unit) | within 0.5 deg of best | force RMSE fore-aft / vertical (BW), nominal -> best |"
+        "best weights (unit) | within 0.5 deg of best | vertical force RMSE (BW), nominal -> best: "
+        "all intervals / without the first and last |"
     )
     print("|---|---|---|---|---|---|---|---|")
     for key, entry in results.items():
@@ -248,10 +268,11 @@ def tables(path: Path) -> None:
         failed = sum(not v["success"] for v in grid.values())
         near = sorted(k for k, v in grid.items() if v["success"] and v["rmse_deg"] <= best["rmse_deg"] + 0.5)
         w = ", ".join(f"{x:.2f}" for x in best["weights"])
-        fn, fb = nominal["force_rmse_bw"], best["force_rmse_bw"]
+        human = entry["trial"]["force"]
+        fn, fb = (_force_rmse(rec["force"], human) for rec in (nominal, best))
         print(
             f"| {key} | {failed} | {nominal['rmse_deg']:.2f} | {best['rmse_deg']:.2f} | {name} | {w} | "
-            f"{'; '.join(near)} | {fn[0]:.3f} / {fn[1]:.3f} -> {fb[0]:.3f} / {fb[1]:.3f} |"
+            f"{'; '.join(near)} | {fn[0]:.2f} / {fn[1]:.2f} -> {fb[0]:.2f} / {fb[1]:.2f} |"
         )
     probe_table(results)
     basin_table(results)
@@ -266,6 +287,8 @@ def probe_table(results: dict) -> None:
     print("|---|" + "---|" * len(keys))
     for name, entry in results.items():
         probes = entry.get("probes", {})
+        if not probes:
+            continue
         cells = []
         for k in keys:
             rec = probes.get(k)
@@ -319,6 +342,48 @@ def figure(path: Path, subject: str, out: Path) -> None:
     print(plot_human_fits(panels, out))
 
 
+def basin_figure(out: Path, subject: str = "WBDS01", speed: str = "T05", weights=(1.0, 4.0, 0.0)) -> None:
+    """Starts 0 and 2 of the basin study re-solved: the human-like optimum and the cheaper
+    one that lands on a bent knee."""
+    from ioc_bench.features import model_features
+    from ioc_bench.human.figures import plot_human_fits
+    from ioc_bench.model.walker import WALKER
+    from ioc_bench.trajopt.initial_guess import multistart_guesses
+    from ioc_bench.trajopt.multistart import solve_starts
+    from ioc_bench.trajopt.solver import StartPoint, get_solver
+    from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
+
+    step = human_step(WbdsData().trial(subject, speed))
+    layout = get_solver(DEFAULT_INTERVALS, WALKER).nlp.layout
+    n_knots = 2 * DEFAULT_INTERVALS + 1
+    tried = multistart_guesses(WALKER, step.params, step.task.speed, step.task.step_length, n_knots, 3, 0)
+    points = [StartPoint(layout.pack(blocks)) for _, blocks in tried][::2]
+    w = parse_weights(weights, model_features(WALKER))
+    walkers = {}
+    for i, r in zip((0, 2), solve_starts(points, step.params, step.task, w, DEFAULT_INTERVALS, workers=1)):
+        knee = np.degrees(r.trajectory.q[0, 2, 2] - r.trajectory.q[0, 1, 2])
+        label = f"start {i}: cost {r.report.objective:.2f}, {segment_rmse_deg(r.trajectory, step):.1f} deg"
+        walkers[f"{label}, knee at heel strike {knee:.0f} deg"] = leg_angles(r.trajectory)
+    title = f"{subject} {speed}, weights {weights}"
+    print(plot_human_fits([{"title": title, "human": step.angles, "walkers": walkers}], out))
+
+
+def compact(path: Path) -> None:
+    """Drop the per-knot arrays of every solve but each trial's grid nominal and grid best
+    (what the tables and figures read), to keep the committed JSON small."""
+    results = json.loads(path.read_text())
+    for entry in results.values():
+        keep = set()
+        if _grid(entry):
+            keep = {"grid/nominal", f"grid/{_best(entry)[0]}"}
+        for group in ("solves", "probes"):
+            for key, rec in entry.get(group, {}).items():
+                if not (group == "solves" and key in keep):
+                    rec.pop("angles", None)
+                    rec.pop("force", None)
+    atomic_write_json(path, results)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("json", nargs="?", type=Path, help="results to tabulate or plot (with --tables/--figure)")
@@ -326,9 +391,11 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="solve and append results here")
     parser.add_argument("--probes", type=Path, help="run the probes and append them here (after --out)")
     parser.add_argument("--basins", type=Path, help="run the basin study and append it here (after --out)")
+    parser.add_argument("--compact", type=Path, help="drop per-knot arrays not needed by tables and figures")
     parser.add_argument("--tables", type=Path)
     parser.add_argument("--figure", type=Path)
     parser.add_argument("--subject", default="WBDS01")
+    parser.add_argument("--basin-figure", type=Path, help="re-solve two starts of the basin study and plot them")
     args = parser.parse_args()
     if args.out:
         run(args.subjects, args.out)
@@ -336,10 +403,14 @@ def main() -> None:
         probe(args.subjects, args.probes)
     if args.basins:
         basins(args.subjects, args.basins)
+    if args.compact:
+        compact(args.compact)
     if args.tables:
         tables(args.tables)
     if args.figure:
         figure(args.json, args.subject, args.figure)
+    if args.basin_figure:
+        basin_figure(args.basin_figure)
 
 
 if __name__ == "__main__":
