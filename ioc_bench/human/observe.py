@@ -26,7 +26,7 @@ from ioc_bench.human.step import LEG_SEGMENTS, HumanStep
 from ioc_bench.model.gait_model import GuessShape
 from ioc_bench.model.linkage import Linkage, place
 from ioc_bench.model.walker import PINS, SEGMENTS, walker_linkage
-from ioc_bench.trajectory import Observation
+from ioc_bench.trajectory import Observation, Trajectory
 
 #: Torso angle (rad, forward lean) of the unmeasured first guess: the default guess's.
 TORSO_GUESS = GuessShape().lean
@@ -98,7 +98,7 @@ def segment_rmse_deg(walker_step: Observation, human: HumanStep | Observation) -
     return float(np.degrees(np.sqrt(np.mean((mine - theirs) ** 2))))
 
 
-def walker_ground_force(trajectory) -> np.ndarray:
+def walker_ground_force(trajectory: Trajectory) -> np.ndarray:
     """(T, 2) the ground's force on the walker's stance foot (x forward, z up), body weights
     (the walker's mass and gravity are 1)."""
     return np.asarray(trajectory.pin_forces)[:, PINS.index("ground"), :]

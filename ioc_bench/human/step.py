@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from ioc_bench.checks import check_count
 from ioc_bench.features import PAPER_GRAVITY
 from ioc_bench.human.anthropometry import SubjectBody, subject_body
 from ioc_bench.human.wbds import TableRow, WbdsTrial
@@ -232,8 +233,7 @@ def human_step(
     """
     if step_length not in ("table", "trend"):
         raise ValueError(f"step_length must be 'table' or 'trend', got {step_length!r}")
-    if isinstance(n_intervals, bool) or not isinstance(n_intervals, int) or n_intervals < 1:
-        raise ValueError(f"n_intervals must be an integer >= 1, got {n_intervals!r}")
+    n_intervals = check_count(n_intervals, "n_intervals")
     body = subject_body(trial.static, trial.row)
     leg = body.leg_length
     samples, weight = _symmetric_samples(trial, leg)
