@@ -1,0 +1,43 @@
+"""Figures of human steps beside the walker's: the four leg segments' angles over a step."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ioc_bench.human.step import LEG_SEGMENTS
+from ioc_bench.viz.common import plt, save_figure
+
+_STYLES = ("--", ":", "-.")
+
+
+def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
+    """One row per panel, one column per leg segment: the person's angles (solid black) and
+    each walker step's (dashed), in degrees over the step (0 % and 100 % at heel strikes).
+
+    Each panel is a mapping with ``title``, ``human`` ((T, 4) rad, :data:`LEG_SEGMENTS` order)
+    and ``walkers`` (label -> (T, 4) rad).
+    """
+    if not panels:
+        raise ValueError("no panels to plot")
+    fig, axes = plt.subplots(len(panels), 4, figsize=(13, 2.4 * len(panels)), sharex=True, squeeze=False)
+    for row, panel in zip(axes, panels):
+        human = np.degrees(np.asarray(panel["human"]))
+        s = np.linspace(0, 100, human.shape[0])
+        for j, ax in enumerate(row):
+            ax.plot(s, human[:, j], "k-", lw=2, label="person")
+            for style, (label, angles) in zip(_STYLES, panel["walkers"].items()):
+                ax.plot(s, np.degrees(np.asarray(angles))[:, j], style, lw=1.5, label=label)
+            ax.axhline(0, color="0.8", lw=0.5)
+            if row is axes[0]:
+                ax.set_title(LEG_SEGMENTS[j].replace("_", " "))
+            if j == 0:
+                ax.set_ylabel(f"{panel['title']}\nangle (deg)", fontsize=8)
+        row[-1].legend(fontsize=7, loc="best")
+    for ax in axes[-1]:
+        ax.set_xlabel("% of the step")
+    fig.suptitle("Leg segment angles from vertical (walker convention: + = proximal end ahead)", fontsize=10)
+    return save_figure(fig, path)
