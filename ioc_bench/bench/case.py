@@ -18,8 +18,8 @@ import json
 import os
 import time
 import traceback
-from collections.abc import Mapping
-from dataclasses import asdict, dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -30,13 +30,14 @@ from ioc_bench.bench.conditions import Condition, get_condition
 from ioc_bench.bench.demos import DemoRequest, demonstration
 from ioc_bench.bench.observe import observe
 from ioc_bench.bench.scoring import unit, weight_error
+from ioc_bench.bench.transfer import transfer, transfer_task
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import cost_features
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.contract import check_result
 from ioc_bench.ioc.oracle import OracleSolution
-from ioc_bench.ioc.problem import IOCProblem
+from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import (
     AlgorithmError,
     canonical_config,
@@ -124,9 +125,28 @@ class CaseSpec:
         return unit(np.array([self.true_weights[cost.index(f)] if f in cost else 0.0 for f in self.features]))
 
     def demo_request(self, params: GaitParams | None = None) -> DemoRequest:
-        """The demonstration this case observes (its multi-start seed is the case's seed)."""
+        """The demonstration this case observes (its first trial's; its multi-start seed is the
+        case's seed)."""
+        return self.demo_requests(params)[0]
+
+    def demo_requests(self, params: GaitParams | None = None) -> list[DemoRequest]:
+        """The demonstration of every trial this case observes (one, unless multi-trial)."""
         params = self.gait_model.default_params if params is None else params
-        return DemoRequest(self.true_weights, params, self.condition_def.demo_task(), self.seed, self.model)
+        cond = self.condition_def
+        return [
+            DemoRequest(self.true_weights, params, cond.demo_task(k), self.seed, self.model)
+            for k in range(len(cond.speeds))
+        ]
+
+    def transfer_request(self, params: GaitParams | None = None) -> DemoRequest | None:
+        """The true weights' demonstration at the speed this case's cost is tested at
+        (:mod:`ioc_bench.bench.transfer`), or None if its speed has no counterpart (or the
+        case observes several speeds already)."""
+        task = transfer_task(self.condition_def.demo_speed)
+        if task is None or len(self.condition_def.speeds) > 1:
+            return None
+        params = self.gait_model.default_params if params is None else params
+        return DemoRequest(self.true_weights, params, task, self.seed, self.model)
 
     @property
     def key(self) -> str:
@@ -177,6 +197,10 @@ class CaseResult:
         model: the gait model.
         uncertainty: the algorithm's region for the weights (:class:`WeightRegion` as a
             dict), None if it reports none.
+        covered: whether that region holds the true weights (None without a region).
+        transfer: the estimated weights' optimum at the other speed against the true one
+            there (:class:`~ioc_bench.bench.transfer.Transfer` as a dict), None if the case
+            has no other speed or failed.
     """
 
     algorithm: str
@@ -204,6 +228,8 @@ class CaseResult:
     family: str = ""
     model: str = DEFAULT_MODEL
     uncertainty: dict[str, Any] | None = None
+    covered: bool | None = None
+    transfer: dict[str, Any] | None = None
     version: str = __version__
 
     @property
@@ -264,28 +290,38 @@ def _is_mapping(value: Any) -> bool:
     return isinstance(value, Mapping)
 
 
-def run_spec(spec: CaseSpec, params: GaitParams | None = None, demo: Demonstration | None = None) -> CaseResult:
-    """Run and score the case ``spec`` (see :func:`run_case`; the runner's entry point)."""
+def run_spec(
+    spec: CaseSpec,
+    params: GaitParams | None = None,
+    demo: Demonstration | None = None,
+    transfer_demo: Demonstration | None = None,
+    trial_demos: Sequence[Demonstration] = (),
+) -> CaseResult:
+    """Run and score the case ``spec`` (see :func:`run_case`; the runner's entry point, which
+    hands over the demonstrations it prepared: the observed one, the other trials' of a
+    multi-trial case, and the transfer speed's)."""
     algo = make_algorithm(spec.algorithm, **spec.config)
     params = _params(spec, params, demo)
-    request = spec.demo_request(params)
-    if demo is None:
-        demo = demonstration(request)
-    else:
-        _check_demo(spec, request, demo)
+    requests = spec.demo_requests(params)
+    given = [demo, *trial_demos] if demo is not None else list(trial_demos)
+    demos = [given[k] if k < len(given) else demonstration(r) for k, r in enumerate(requests)]
+    for request, d in zip(requests, given):
+        _check_demo(spec, request, d)
+    other = spec.transfer_request(params)
+    if other is not None and transfer_demo is not None:
+        _check_demo(spec, other, transfer_demo)
     base = _identity(spec) | {
         "config": algo.config_dict(),
-        "demo_features": dict(demo.features),
-        "demo_speed": demo.task.speed,
+        "demo_features": dict(demos[0].features),
+        "demo_speed": demos[0].task.speed,
     }
-    if not demo.solver.success:
+    unsolved = [d for d in demos if not d.solver.success]
+    if unsolved:
         base["demo_features"] = {}  # a failed demonstration's features describe no optimum
-        return _failed(base, f"the demonstration could not be solved ({demo.solver.status})")
-    cond = spec.condition_def
-    observed = observe(demo.trajectory, cond.noise, np.random.default_rng([spec.seed, NOISE_STREAM]), cond.torques)
-    problem = IOCProblem(
-        observed, spec.features, cond.ioc_params(params), cond.ioc_task(), seed=spec.seed, model=spec.gait_model
-    )
+        return _failed(base, f"the demonstration could not be solved ({unsolved[0].solver.status})")
+    if len(demos) > 1 and not algo.multi_trial:
+        return _failed(base, f"{spec.algorithm} does not handle several trials (its multi_trial is False)")
+    problem = _problem(spec, params, demos)
     t0 = time.perf_counter()
     try:
         result = algo.fit(problem)
@@ -296,7 +332,27 @@ def run_spec(spec: CaseSpec, params: GaitParams | None = None, demo: Demonstrati
     reason = check_result(result, problem.n_features)
     if reason:
         return _failed(base, reason, problem, t0)
-    return _score(base, result, problem, wall)
+    scored = _score(base, result, problem, wall)
+    if other is None:
+        return scored
+    truth = transfer_demo if transfer_demo is not None else demonstration(other)
+    if not truth.solver.success:
+        return replace(scored, transfer={"speed": other.task.speed, "status": "no demonstration"})
+    moved = transfer(np.array(scored.weights), spec.features, truth)
+    return replace(scored, transfer=moved.to_dict())
+
+
+def _problem(spec: CaseSpec, params: GaitParams, demos: Sequence[Demonstration]) -> IOCProblem | MultiTrialProblem:
+    """What the IOC sees of the case's demonstrations: one problem per trial (the first trial's
+    noise is drawn as a single-trial case's, so a multi-trial case extends it)."""
+    cond = spec.condition_def
+    trials = []
+    for k, d in enumerate(demos):
+        rng = np.random.default_rng([spec.seed, NOISE_STREAM] + ([k] if k else []))
+        observed = observe(d.trajectory, cond.noise, rng, cond.torques)
+        ioc_params, task = cond.ioc_params(params), cond.ioc_task(k)
+        trials.append(IOCProblem(observed, spec.features, ioc_params, task, seed=spec.seed, model=spec.gait_model))
+    return trials[0] if len(trials) == 1 else MultiTrialProblem(trials)
 
 
 def _params(spec: CaseSpec, params: GaitParams | None, demo: Demonstration | None) -> GaitParams:
@@ -371,11 +427,15 @@ def regenerate(problem: IOCProblem, weights: np.ndarray) -> OracleSolution:
     return final if final.success else problem.optimize(weights)
 
 
-def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> CaseResult:
+def _score(base: dict, result: IOCResult, problem: IOCProblem | MultiTrialProblem, wall: float) -> CaseResult:
     est = unit(np.asarray(result.weights, dtype=float))
     spent = problem.stats.copy()  # the algorithm's, before scoring adds its own solves
-    regenerated = regenerate(problem, est)
-    traj_err = trajectory_error(regenerated.trajectory, problem.observed) if regenerated.success else float("nan")
+    regenerated = [regenerate(trial, est) for trial in problem.trials]
+    errors = [
+        trajectory_error(r.trajectory, trial.observed) if r.success else float("nan")
+        for r, trial in zip(regenerated, problem.trials)
+    ]
+    traj_err = float(np.sum(errors))  # summed over trials, as the history's trajectory errors are
     return CaseResult(
         **base,
         status=result.status,
@@ -390,8 +450,9 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> C
         chosen_iteration=result.chosen_iteration,
         oracle=spent.to_dict(),
         notes=dict(result.notes),
-        scoring_status=regenerated.status,
+        scoring_status=", ".join(r.status for r in regenerated),
         uncertainty=None if result.uncertainty is None else result.uncertainty.to_dict(),
+        covered=None if result.uncertainty is None else result.uncertainty.contains(np.array(base["true_weights"])),
     )
 
 

@@ -38,6 +38,9 @@ class Condition:
         axis: the robustness axis the condition lies on (``noise``, ``mass``, ``speed``;
             empty for none), for robustness curves.
         severity: its signed size on that axis, percent (noise sigma, mass or speed error).
+        trial_speeds: speeds of several observed trials of one subject (the same weights
+            and seed), one weight vector to explain them all (multi-trial IOC); empty: one
+            trial at ``demo_speed``.
     """
 
     name: str
@@ -50,12 +53,22 @@ class Condition:
     torques: bool = True
     axis: str = ""
     severity: float = 0.0
+    trial_speeds: tuple[float, ...] = ()
 
-    def demo_task(self) -> Task:
-        return Task(self.demo_speed)
+    def __post_init__(self) -> None:
+        if self.trial_speeds:
+            object.__setattr__(self, "demo_speed", self.trial_speeds[0])
 
-    def ioc_task(self) -> Task:
-        return Task(self.demo_speed * self.ioc_speed)
+    @property
+    def speeds(self) -> tuple[float, ...]:
+        """The speed of every observed trial."""
+        return self.trial_speeds or (self.demo_speed,)
+
+    def demo_task(self, trial: int = 0) -> Task:
+        return Task(self.speeds[trial])
+
+    def ioc_task(self, trial: int = 0) -> Task:
+        return Task(self.speeds[trial] * self.ioc_speed)
 
     def ioc_params(self, truth: GaitParams) -> GaitParams:
         return truth if self.ioc_leg_mass == 1.0 else truth.with_leg_mass_scale(self.ioc_leg_mass)
@@ -117,6 +130,17 @@ CONDITIONS: dict[str, Condition] = {
         Condition("mass", "IOC model: legs 10 % heavier, torso lighter", ioc_leg_mass=1.1, axis="mass", severity=10),
         Condition("speed", "IOC task 10 % faster than the demonstration", ioc_speed=1.1, axis="speed", severity=10),
         Condition("distractor", "3 distractor features added (true weight 0)", features=ALL_FEATURES),
+        Condition(
+            "multi-speed",
+            "two trials of one subject, at 0.27 and 0.34, exact: one weight vector for both",
+            trial_speeds=(NOMINAL_SPEED, FAST_SPEED),
+        ),
+        Condition(
+            "multi-speed-noise",
+            "two trials, at 0.27 and 0.34, each + 5 % noise (the first trial's noise is the noise condition's)",
+            noise=0.05,
+            trial_speeds=(NOMINAL_SPEED, FAST_SPEED),
+        ),
         *(_noise(p) for p in (1, 2, 10)),
         *(_scaled("mass", p) for p in (-20, -10, 20)),
         *(_scaled("speed", p) for p in (-20, -10, 20)),

@@ -41,10 +41,14 @@ Finish = Callable[[CaseSpec, CaseResult], None]
 
 @dataclass(frozen=True, eq=False)
 class Job:
-    """One case to run and its true demonstration (shipped along, so workers need no shared disk)."""
+    """One case to run, its true demonstration and the one its cost is tested at (shipped
+    along, so workers need no shared disk)."""
 
     spec: CaseSpec
     demo: Demonstration
+    transfer_demo: Demonstration | None = None
+    #: the demonstrations of a multi-trial case's other trials
+    trial_demos: tuple[Demonstration, ...] = ()
 
 
 class Executor(Protocol):
@@ -120,7 +124,7 @@ def execute(job: Job) -> CaseResult:
     """Run one case (in a worker); errors outside the algorithm become failed results too."""
     spec = job.spec
     try:
-        return run_spec(spec, demo=job.demo)
+        return run_spec(spec, demo=job.demo, transfer_demo=job.transfer_demo, trial_demos=job.trial_demos)
     except Exception as exc:  # e.g. a plugin that is not installed on a Ray node
         return failure_of(spec, f"{type(exc).__name__}: {exc}")
 

@@ -101,13 +101,12 @@ class RunPlan:
         with results_directory(self.out):
             pending, retries = self.pending()
             if pending:
-                say(f"preparing {len({s.demo_request() for s in pending})} demonstration(s)")
-                demos = prepare_demonstrations(pending)
+                demos = prepare_demonstrations(pending, say)
                 retried = f" ({retries} retried after failing before)" if retries else ""
                 for name in sorted({spec.algorithm for spec in pending}):
                     get_algorithm(name).prepare()  # shared set-up, built once before workers fork
                 say(f"running {len(pending)} case(s){retried}")
-                jobs = [Job(spec, demos[spec.demo_request()]) for spec in pending]
+                jobs = [_job(spec, demos) for spec in pending]
                 schedule(self.executor, jobs, self.time_limit, finish)
         total = len(self.specs)
         return RunSummary(total, total - len(pending), len(pending), failed[0], time.perf_counter() - t0, retries)
@@ -165,7 +164,20 @@ def run_cases(
     return plan_run(specs, out, workers, time_limit, executor, address, keep_failed).run(on_case, on_stage)
 
 
-def prepare_demonstrations(specs: Sequence[CaseSpec]) -> dict[DemoRequest, Demonstration]:
-    """The true demonstration of every case (its multi-start seed is the case's seed),
-    solved (all cores) or read from the cache, each once."""
-    return {request: demonstration(request) for request in dict.fromkeys(s.demo_request() for s in specs)}
+def prepare_demonstrations(
+    specs: Sequence[CaseSpec], say: Callable[[str], None] | None = None
+) -> dict[DemoRequest, Demonstration]:
+    """The demonstrations of every case, each once: the one it observes (its multi-start seed
+    is the case's seed) and the one its cost is tested at; solved (all cores) or read from
+    the cache."""
+    requests = [r for s in specs for r in s.demo_requests()] + [s.transfer_request() for s in specs]
+    unique = list(dict.fromkeys(r for r in requests if r is not None))
+    if say:
+        say(f"preparing {len(unique)} demonstration(s)")
+    return {request: demonstration(request) for request in unique}
+
+
+def _job(spec: CaseSpec, demos: dict[DemoRequest, Demonstration]) -> Job:
+    first, *others = (demos[r] for r in spec.demo_requests())
+    request = spec.transfer_request()
+    return Job(spec, first, None if request is None else demos[request], tuple(others))

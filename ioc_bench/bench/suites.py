@@ -55,6 +55,8 @@ class Suite:
 
 #: The paper's conditions (SPEC section 4), and the torque-free reading of its noise.
 PAPER_CONDITIONS = ("ideal", "ideal-fast", "noise", "noise-kinematics", "mass", "speed", "distractor")
+#: The paper's further work: several trials of one subject (both speeds) for one cost.
+MULTI_TRIAL_CONDITIONS = ("multi-speed", "multi-speed-noise")
 #: Every condition on the robustness axes (ideal once), by axis then severity.
 ROBUSTNESS_CONDITIONS = tuple(dict.fromkeys(c.name for axis in AXES for c in axis_conditions(axis)))
 
@@ -69,9 +71,9 @@ SUITES: dict[str, Suite] = {
         ),
         Suite(
             "paper",
-            "the paper's study: 4 weight sets x its 6 conditions and noise-kinematics, one seed",
+            "the paper's study: 4 weight sets x its 6 conditions, noise-kinematics and two multi-trial ones, one seed",
             weight_sets=tuple(WEIGHT_SETS),
-            conditions=PAPER_CONDITIONS,
+            conditions=PAPER_CONDITIONS + MULTI_TRIAL_CONDITIONS,
         ),
         Suite(
             "ideal",
@@ -89,7 +91,7 @@ SUITES: dict[str, Suite] = {
             "paper-3seeds",
             "the paper's study with 3 seeds (each re-solves the demonstration, redraws noise and randomness)",
             weight_sets=tuple(WEIGHT_SETS),
-            conditions=PAPER_CONDITIONS,
+            conditions=PAPER_CONDITIONS + MULTI_TRIAL_CONDITIONS,
             seeds=(0, 1, 2),
         ),
         Suite(

@@ -90,7 +90,19 @@ class IterationRecord:
 
     @classmethod
     def of(cls, problem: IOCProblem, weights: np.ndarray, solution: Any, **extra: Any) -> IterationRecord:
-        """The record of candidate ``weights`` and its oracle ``solution``."""
+        """The record of candidate ``weights`` and its oracle ``solution`` (for a multi-trial
+        problem, a sequence of one solution per trial: the mean tracking error and the summed
+        trajectory error over trials)."""
+        if isinstance(solution, (list, tuple)):
+            ok = all(bool(s.success) for s in solution)
+            steps = [s.trajectory for s in solution]
+            return cls(
+                weights=tuple(float(x) for x in weights),
+                tracking_error=problem.tracking_error(steps) if ok else float("nan"),
+                trajectory_error=problem.trajectory_error(steps) if ok else float("nan"),
+                solve_status=", ".join(str(s.status) for s in solution),
+                extra=extra,
+            )
         ok = bool(solution.success)
         return cls(
             weights=tuple(float(x) for x in weights),

@@ -75,6 +75,7 @@ class AnalyticCenter(IOCAlgorithm):
 
     description = "log-barrier IOC as an analytic-centre cutting-plane method (scaled features, proximal cuts)"
     family = "cutting-plane"
+    multi_trial = True
     Config = AnalyticCenterConfig
 
     def fit(self, problem: IOCProblem) -> IOCResult:

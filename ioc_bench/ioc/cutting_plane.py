@@ -28,12 +28,13 @@ also when a candidate's step adds no cut (``converged``: the candidate is consis
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Protocol
 
 import numpy as np
 
-from ioc_bench.ioc.algorithm import IOCResult, IterationRecord
+from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
+from ioc_bench.ioc.cut_region import cut_region
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.weight_fit import fit_weights, max_margin
@@ -187,19 +188,22 @@ class CuttingPlane:
     stop_without_cut: bool
 
     def run(self, problem: IOCProblem) -> IOCResult:
-        ref = self.reference(problem)
-        if ref is None:
+        """Run the loop on ``problem``; on a multi-trial problem every trial gets its own
+        reference, samples and forward step, and one weight step separates them all."""
+        trials = problem.trials
+        refs = [self.reference(t) for t in trials]
+        if any(r is None for r in refs):
             return IOCResult(np.full(problem.n_features, np.nan), "failed: the observation could not be projected")
-        observed, start = ref
-        phi_ref = problem.features_of(observed)
-        step = self.weight_step(phi_ref) if callable(self.weight_step) else self.weight_step
-        samples, notes = self._random_samples(problem, phi_ref)
+        starts = [start for _, start in refs]
+        phi_refs = [t.features_of(observed) for t, (observed, _) in zip(trials, refs)]
+        step = self.weight_step(np.mean(phi_refs, axis=0)) if callable(self.weight_step) else self.weight_step
+        samples, notes = self._samples(trials, phi_refs)
         history: list[IterationRecord] = []
         status, previous, w = "max_iterations", None, None
         for _ in range(self.max_iterations):
             # A cut keeps the weights under which the sample costs at least (1 - cut_threshold)
             # times the reference: the reference is optimal only to that tolerance.
-            diffs = np.array(samples) - (1 - self.cut_threshold) * phi_ref if samples else None
+            diffs = self._diffs(samples, phi_refs)
             if diffs is None:
                 w = normalize(1.0 / getattr(step, "unit", np.ones(problem.n_features)))
             else:
@@ -207,16 +211,22 @@ class CuttingPlane:
                 if not ok:
                     status, w = "infeasible", step.relaxed(diffs, previous, previous)
                     break
-            sol, extra = self.forward(problem, w, start, phi_ref, self.cut_threshold)
-            gap = float(w @ (sol.features - phi_ref) / (w @ phi_ref)) if sol.success else float("nan")
-            history.append(IterationRecord.of(problem, w, sol, cost_gap=gap, **extra))
-            if not sol.success:
+            steps = [self.forward(t, w, s, phi, self.cut_threshold) for t, s, phi in zip(trials, starts, phi_refs)]
+            sols = [sol for sol, _ in steps]
+            gaps = [
+                float(w @ (sol.features - phi) / (w @ phi)) if sol.success else float("nan")
+                for sol, phi in zip(sols, phi_refs)
+            ]
+            extra = {"cost_gap": gaps[0] if len(gaps) == 1 else gaps} | steps[0][1]
+            history.append(IterationRecord.of(problem, w, sols[0] if len(sols) == 1 else sols, **extra))
+            if not all(sol.success for sol in sols):
                 status = "forward_failed"
                 break
-            if self._is_cut(sol.features, phi_ref):
-                samples.append(sol.features)
-            if self.stop_without_cut and not gap < -self.cut_threshold:
-                status = "converged"  # no cheaper step near the reference: w is consistent with it
+            for k, (sol, phi) in enumerate(zip(sols, phi_refs)):
+                if self._is_cut(sol.features, phi):
+                    samples[k].append(sol.features)
+            if self.stop_without_cut and not any(gap < -self.cut_threshold for gap in gaps):
+                status = "converged"  # no cheaper step near any reference: w is consistent with them
                 break
             if previous is not None and np.max(np.abs(w - previous)) < self.weight_tol:
                 status = "converged"
@@ -225,8 +235,21 @@ class CuttingPlane:
         if w is None:
             return IOCResult(np.full(problem.n_features, np.nan), f"failed: {status} before the first candidate")
         weights, chosen = self.output(history, w)
-        notes["cuts"] = len(samples) - notes["random_samples"]
-        return IOCResult(weights, status, tuple(history), chosen, notes)
+        notes["cuts"] = sum(len(s) for s in samples) - notes["random_samples"]
+        region = cut_region(self._diffs(samples, phi_refs), problem.n_features, step.lower, problem.seed)
+        return IOCResult(weights, status, tuple(history), chosen, notes, uncertainty=_holding(region, weights))
+
+    def _diffs(self, samples: list[list[np.ndarray]], phi_refs: list[np.ndarray]) -> np.ndarray | None:
+        rows = [s - (1 - self.cut_threshold) * phi for trial, phi in zip(samples, phi_refs) for s in trial]
+        return np.array(rows) if rows else None
+
+    def _samples(self, trials, phi_refs: list[np.ndarray]) -> tuple[list[list[np.ndarray]], dict]:
+        samples, notes = [], {"random_samples": 0, "failed_projections": 0}
+        for trial, phi in zip(trials, phi_refs):
+            own, counts = self._random_samples(trial, phi)
+            samples.append(own)
+            notes = {k: notes[k] + counts[k] for k in notes}
+        return samples, notes
 
     def _is_cut(self, phi: np.ndarray, phi_ref: np.ndarray) -> bool:
         """Whether a sample differs from the reference by more than the threshold."""
@@ -244,3 +267,17 @@ class CuttingPlane:
             elif self._is_cut(sol.features, phi_ref):
                 samples.append(sol.features)
         return samples, {"random_samples": len(samples), "failed_projections": failed}
+
+
+def _holding(region: WeightRegion | None, weights: np.ndarray) -> WeightRegion | None:
+    """The cut region widened to hold the output (the paper's output, the candidate closest to
+    the observation, may lie outside the cone that later cuts leave)."""
+    if region is None:
+        return None
+    w = normalize(weights)
+    lower, upper = np.minimum(region.lower, w), np.maximum(region.upper, w)
+    if np.array_equal(lower, region.lower) and np.array_equal(upper, region.upper):
+        return region
+    return replace(
+        region, lower=tuple(lower), upper=tuple(upper), method=region.method + ", widened to hold the output"
+    )

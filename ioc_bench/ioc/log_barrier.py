@@ -74,6 +74,7 @@ class LogBarrier(IOCAlgorithm):
 
     description = "the paper's iterative log-barrier IOC (Rebula et al. 2019), as printed"
     family = "cutting-plane"
+    multi_trial = True
     Config = LogBarrierConfig
 
     def fit(self, problem: IOCProblem) -> IOCResult:

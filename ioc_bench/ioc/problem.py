@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numbers
 from collections.abc import Sequence
+from dataclasses import replace
 from functools import cached_property
 
 import numpy as np
@@ -29,6 +30,8 @@ import numpy as np
 from ioc_bench.features import check_names, evaluate, model_features
 from ioc_bench.ioc.forward_view import ForwardView
 from ioc_bench.ioc.oracle import OracleSolution, OracleStats
+from ioc_bench.ioc.smoothing import LADDER as SMOOTHING_LADDER
+from ioc_bench.ioc.smoothing import NOISE_FLOOR, discrepancy_target, noise_level
 from ioc_bench.metrics import trajectory_error
 from ioc_bench.model.catalogue import model_of
 from ioc_bench.model.gait_model import GaitModel, GaitParams
@@ -41,7 +44,7 @@ from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE
 from ioc_bench.trajopt.tracking import signal_spans, tracking_error, tracking_terms
 from ioc_bench.weights import full_weights, normalize
 
-__all__ = ["IOCProblem", "OracleSolution", "OracleStats"]
+__all__ = ["IOCProblem", "MultiTrialProblem", "OracleSolution", "OracleStats"]
 
 #: Projection objective scale. The span-normalised distance is ~1e-3 for 5 % noise and
 #: ~1e-2 for a 10 % speed mismatch; scaled up (1e1, 1e3) it outweighed the knee-lock
@@ -116,6 +119,11 @@ class IOCProblem:
     @property
     def n_features(self) -> int:
         return len(self.features)
+
+    @property
+    def trials(self) -> tuple[IOCProblem, ...]:
+        """The observed trials: this problem alone (a :class:`MultiTrialProblem` has several)."""
+        return (self,)
 
     @property
     def signal_spans(self) -> np.ndarray:
@@ -194,12 +202,41 @@ class IOCProblem:
         return self._wrap(result, np.zeros(self.n_features))
 
     @cached_property
+    def noise_level(self) -> float:
+        """The observation's noise, estimated from the observation itself (a fraction of each
+        measured signal's span; :func:`~ioc_bench.ioc.smoothing.noise_level`)."""
+        return noise_level(self.observed.signals(len(self._forward.actuators)))
+
+    @cached_property
     def _reference(self) -> OracleSolution:
-        return self.project(self.observed)
+        plain = self.project(self.observed)
+        if self.noise_level <= NOISE_FLOOR or not plain.success:
+            return plain
+        return self._smoothed(plain)
 
     def reference(self) -> OracleSolution:
-        """The projected observation (computed on first use, counted as one projection)."""
+        """The feasible reference of the observation, computed on first use: its projection
+        (one projection) if the observation is exact; for a noisy one, the projection smoothed
+        just enough not to fit the noise (:mod:`ioc_bench.ioc.smoothing`; each smoothing
+        solve counts as a projection)."""
         return self._reference
+
+    def _smoothed(self, plain: OracleSolution) -> OracleSolution:
+        """The smoothest projection (of the ladder) within the discrepancy target."""
+        target = discrepancy_target(self.tracking_error(plain.trajectory), self.noise_level)
+        best, start = plain, plain.point
+        for mu in SMOOTHING_LADDER:
+            tracking = replace(
+                tracking_terms(self.observed, PROJECTION_SCALE, self._spans), smoothing=mu * PROJECTION_SCALE
+            )
+            zeros = np.zeros(len(self._forward.features))
+            with self.stats.timed("project"):
+                result = self._forward.solve(SolveRequest(start, self.params, self.task, zeros, tracking))
+            if not result.report.success or self.tracking_error(result.trajectory) > target:
+                break
+            best = self._wrap(result, np.zeros(self.n_features))
+            start = result.point
+        return best
 
     def is_feasible(self, trajectory: Trajectory, tol: float = FEASIBILITY_TOL) -> bool:
         """Whether a full trajectory satisfies the IOC's model and task constraints to ``tol``."""
@@ -264,3 +301,47 @@ class IOCProblem:
             point=result.point,
             report=result.report,
         )
+
+
+class MultiTrialProblem:
+    """Several observed trials of one subject, to be explained by one weight vector.
+
+    The paper's further work: "IOC can estimate a cost function for multiple trials,
+    limiting the effects of noise and variability". Each trial is an :class:`IOCProblem`
+    with its own observation and task (e.g. one per speed) under one model and feature set;
+    their oracle calls are counted together in :attr:`stats`. An algorithm that handles
+    several trials declares ``multi_trial = True`` and iterates over :attr:`trials`; any
+    other is recorded as failed on such a problem, with that reason.
+
+    Args:
+        trials: the trials (at least two; the same features, model and seed).
+    """
+
+    def __init__(self, trials: Sequence[IOCProblem]):
+        trials = tuple(trials)
+        if len(trials) < 2 or not all(isinstance(t, IOCProblem) for t in trials):
+            raise ValueError("a multi-trial problem needs two or more IOCProblem trials")
+        first = trials[0]
+        if any(t.features != first.features or t.model is not first.model for t in trials):
+            raise ValueError("every trial of a multi-trial problem must have the same features and model")
+        self.trials = trials
+        self.features, self.model, self.seed = first.features, first.model, first.seed
+        self.stats = OracleStats()
+        for trial in trials:
+            trial.stats = self.stats  # one count for the whole problem
+
+    @property
+    def n_features(self) -> int:
+        return len(self.features)
+
+    def rng(self, stream: int = 0) -> np.random.Generator:
+        """A generator seeded from the problem's seed (``stream`` separates independent uses)."""
+        return np.random.default_rng([self.seed, stream])
+
+    def tracking_error(self, steps: Sequence[Observation]) -> float:
+        """The mean over trials of each trial's tracking error of its step."""
+        return float(np.mean([t.tracking_error(s) for t, s in zip(self.trials, steps, strict=True)]))
+
+    def trajectory_error(self, steps: Sequence[Observation]) -> float:
+        """The sum over trials of the paper's trajectory error of each trial's step."""
+        return float(np.sum([t.trajectory_error(s) for t, s in zip(self.trials, steps, strict=True)]))

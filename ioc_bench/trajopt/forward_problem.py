@@ -125,9 +125,11 @@ class ForwardProblem:
     ) -> np.ndarray:
         """The NLP's parameter vector (``weights`` over :attr:`features`, default all zero)."""
         w = np.zeros(len(self.features)) if weights is None else weights
-        ref, track = (None, None) if tracking is None else (tracking.ref, tracking.weight)
+        ref, track, smooth = (
+            (None, None, 0.0) if tracking is None else (tracking.ref, tracking.weight, tracking.smoothing)
+        )
         return self.step.parameter_vector(
-            params, task.speed, w, ref=ref, track=track, lock_penalty=lock_penalty, rules=rules
+            params, task.speed, w, ref=ref, track=track, smoothing=smooth, lock_penalty=lock_penalty, rules=rules
         )
 
     def bounds(self, params: GaitParams, task: Task, rules: StepRules = StepRules()) -> Bounds:

@@ -19,9 +19,12 @@ range and a tracking reference; the task's step length and the lift-off rule are
 per-solve bounds. The NLP is built and differentiated once per model and interval count;
 one solver serves every weight set, model variant and projection problem. Objective::
 
-    scale * sum_i w_i phi_i  +  sum_j r_j (x_j - xref_j)^2  +  rho * (lock complementarity)
+    scale * sum_i w_i phi_i  +  sum_j r_j (x_j - xref_j)^2  +  s * |second differences of tau|^2
+    +  rho * (lock complementarity)
 
-over positions, velocities and torques ``x``; ``w = 0, r > 0`` is the IOC's projection.
+over positions, velocities and torques ``x``; ``w = 0, r > 0`` is the IOC's projection, and
+``s > 0`` smooths it (a torque-curvature term that is no cost feature: see
+:mod:`ioc_bench.ioc.smoothing`).
 """
 
 from __future__ import annotations
@@ -246,6 +249,7 @@ class StepProblem:
             ("linkage", (len(self.linkage.parameter_vector()),)),
             ("ref", (t, self.n_track)),
             ("track", (t, self.n_track)),
+            ("smoothing", (1,)),
         ):
             self.params.add(name, shape)
 
@@ -273,6 +277,8 @@ class StepProblem:
             [var["q"].reshape(self.n_knots, -1), var["v"].reshape(self.n_knots, -1), var["tau"]], axis=1
         )
         tracking = np.sum(prm["track"] * (track - prm["ref"]) ** 2)
+        curvature = var["tau"][2:] - 2 * var["tau"][1:-1] + var["tau"][:-2]  # torque second differences
+        tracking = tracking + prm["smoothing"][0] * np.sum(curvature**2)
         per_step = prm["per_step"][0]
         per_weight = phi * (1 - per_step + per_step * inputs.duration)  # the effort is w . per_weight
         effort = ca.dot(ca.vertcat(*prm["weights"]), per_weight)
@@ -401,6 +407,7 @@ class StepProblem:
         weights: np.ndarray,
         ref: np.ndarray | None = None,
         track: np.ndarray | None = None,
+        smoothing: float = 0.0,
         scale: float = OBJECTIVE_SCALE,
         lock_penalty: float = LOCK_PENALTY,
         rules: StepRules = StepRules(),
@@ -418,6 +425,7 @@ class StepProblem:
                 "linkage": self.model.linkage(params).parameter_vector(),
                 "ref": 0.0 if ref is None else ref,
                 "track": 0.0 if track is None else track,
+                "smoothing": smoothing,
             }
         )
 

@@ -36,15 +36,18 @@ def signal_spans(step: Signals, n_actuators: int | None = None) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class Tracking:
-    """A tracking term ``sum(weight * (signals - ref)^2)`` over a step's (T, n) signals.
+    """A tracking term ``sum(weight * (signals - ref)^2)`` over a step's (T, n) signals, and an
+    optional smoothing term ``smoothing * sum (tau_{k+1} - 2 tau_k + tau_{k-1})^2``.
 
     Attributes:
         ref: (T, n) the target's signals (0 where not measured).
         weight: (T, n) each entry's weight (0 where not measured).
+        smoothing: weight of the torques' squared second differences (0: none).
     """
 
     ref: np.ndarray
     weight: np.ndarray
+    smoothing: float = 0.0
 
 
 def tracking_terms(target: Signals, strength: float, spans: np.ndarray) -> Tracking:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import ioc_bench
@@ -29,3 +30,51 @@ def test_inverse_kkt_uses_one_projection_and_no_forward_solve(penalize_knee_cach
     assert result.oracle["calls"].get("project") == 1 and "optimize" not in result.oracle["calls"]
     assert result.notes["relative_residual"] < 1e-3
     assert result.found_trajectory_error is None  # no step of its own to report
+
+
+@pytest.mark.parametrize("algorithm", ["inverse-kkt", "bilevel", "log-barrier", "analytic-center"])
+def test_every_built_in_reports_a_region_that_holds_an_exact_estimate(algorithm, penalize_knee_cached):
+    result = ioc_bench.run_case(algorithm, "penalize-knee", "ideal", seed=0)
+    region = result.uncertainty
+    assert region is not None and region["method"], result.reason
+    assert len(region["lower"]) == len(result.features)
+    assert all(lo <= hi for lo, hi in zip(region["lower"], region["upper"]))
+    assert all(lo - 1e-9 <= w <= hi + 1e-9 for lo, w, hi in zip(region["lower"], result.weights, region["upper"]))
+
+
+def test_bilevel_gauss_newton_recovers_an_exact_observation_in_few_solves(penalize_knee_cached):
+    result = ioc_bench.run_case("bilevel", "penalize-knee", "ideal", seed=0)
+    assert result.weight_error < 1e-4 and result.n_solves <= 8, (result.weight_error, result.n_solves)
+    assert result.covered  # exact data: the region holds the truth
+    old = ioc_bench.run_case("bilevel", "penalize-knee", "ideal", seed=0, config={"method": "lbfgs"})
+    assert old.n_solves > result.n_solves  # the previous built-in, kept selectable, needs more
+
+
+def test_an_exact_estimate_transfers_to_the_other_speed(penalize_knee_cached):
+    result = ioc_bench.run_case("inverse-kkt", "penalize-knee", "ideal", seed=0)
+    assert result.weight_error < 1e-4
+    assert result.transfer["speed"] == 0.34 and result.transfer["trajectory_error"] < 1e-4
+
+
+@pytest.mark.parametrize("algorithm", ["inverse-kkt", "bilevel"])
+def test_multi_trial_ioc_explains_both_speeds_with_one_weight_vector(algorithm, penalize_knee_cached):
+    result = ioc_bench.run_case(algorithm, "penalize-knee", "multi-speed", seed=0)
+    assert result.status == "converged" and result.weight_error < 1e-3, (result.reason, result.weight_error)
+    assert result.transfer is None  # both speeds are observed: none is left to transfer to
+    assert len(result.scoring_status.split(", ")) == 2
+
+
+def test_an_algorithm_without_multi_trial_support_is_recorded_as_failed(penalize_knee_cached):
+    from ioc_bench import IOCAlgorithm, IOCResult
+    from ioc_bench.ioc import registry
+
+    class SingleOnly(IOCAlgorithm):
+        def fit(self, problem):
+            return IOCResult(np.ones(problem.n_features))
+
+    registry._add("single-trial-only", SingleOnly, "test")
+    try:
+        result = ioc_bench.run_case("single-trial-only", "penalize-knee", "multi-speed", seed=0)
+    finally:
+        registry._REGISTRY.pop("single-trial-only")
+    assert result.failed and "several trials" in result.reason
