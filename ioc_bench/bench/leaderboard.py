@@ -34,6 +34,8 @@ from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.fileio import atomic_write_many, json_text
 from ioc_bench.weights import WEIGHT_SETS
 
+#: The files a leaderboard is written as, in its output folder.
+FILES = ("README.md", "leaderboard.json")
 #: Minimum seeds per case for a bootstrap confidence interval.
 MIN_SEEDS_FOR_CI = 3
 #: The paper's findings, one per condition (Rebula et al. 2019, section III).
@@ -345,4 +347,5 @@ def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, sou
             for r in results
         ],
     }
-    return atomic_write_many({out / "README.md": md, out / "leaderboard.json": json_text(data).encode()})
+    readme, board = (out / name for name in FILES)
+    return atomic_write_many({readme: md, board: json_text(data).encode()})

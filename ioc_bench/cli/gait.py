@@ -9,6 +9,7 @@ from ioc_bench.cli.common import (
     add_json_flag,
     add_multistart_args,
     output_file,
+    path_arg,
     print_json,
     progress_bar,
     solver_dict,
@@ -21,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("gait", help="optimize the walking step for given weights", description=__doc__)
     p.add_argument("--weights", type=weights_arg, default="nominal", help="weight set name or numbers hip,knee,dtau")
     add_multistart_args(p, NOMINAL_SPEED)
-    p.add_argument("--out", type=Path, default=Path("demo.npz"), help="demonstration file to write (.npz)")
+    p.add_argument("--out", type=path_arg, default=Path("demo.npz"), help="demonstration file to write (.npz)")
     p.add_argument("--no-plot", action="store_true", help="skip the stick-figure plot")
     add_json_flag(p)
     p.set_defaults(run=run)

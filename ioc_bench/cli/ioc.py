@@ -9,8 +9,10 @@ from pathlib import Path
 from ioc_bench.cli.common import (
     UsageError,
     add_json_flag,
+    check_cache,
     json_object,
     output_file,
+    path_arg,
     print_json,
     seed_int,
     usage_errors,
@@ -26,7 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=seed_int, default=0, help="seed of the algorithm and of observation noise (>= 0)")
     config_help = "algorithm config overrides as JSON, e.g. '{\"n_random\": 5}'"
     p.add_argument("--config", type=json_object, default={}, help=config_help)
-    p.add_argument("--out", type=Path, default=Path("ioc_result.json"), help="result file (JSON); plot beside it")
+    p.add_argument("--out", type=path_arg, default=Path("ioc_result.json"), help="result file (JSON); plot beside it")
     add_json_flag(p)
     p.set_defaults(run=run)
 
@@ -45,6 +47,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--out {args.out} names the JSON result; its plot is written beside it as .png")
     output_file(args.out)
     output_file(args.out.with_suffix(".png"), "--out (its plot)")
+    check_cache()
     if not args.json:
         print(
             f"running {args.algorithm} on {args.weights} weights, {condition.name} condition, seed {args.seed}",

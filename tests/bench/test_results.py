@@ -93,7 +93,7 @@ def test_malformed_files_raise_result_file_error_naming_the_file(tmp_path, text,
     [
         ({"wall_time": "fast"}, "wall_time must be a number"),
         ({"seed": "0"}, "seed must be an integer"),
-        ({"seed": -3}, "seed must be >= 0"),
+        ({"seed": -3}, "seed must be a non-negative integer"),
         ({"weights": [0.5, 0.5]}, "weights has 2 entries for 3 features"),
         ({"features": "hip"}, "features must be a list of strings"),
         ({"history": [1, 2]}, "history must be a list of objects"),
