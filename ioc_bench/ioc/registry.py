@@ -106,6 +106,15 @@ def _load_plugin(ep: importlib.metadata.EntryPoint) -> bool:
         return False
     if _REGISTRY.get(ep.name) is cls:
         return True
+    if ep.name in _REGISTRY:
+        existing = _REGISTRY[ep.name]
+        warnings.warn(
+            f"IOC plugin {ep.name!r} ({ep.value}) skipped: name clash refused, {ep.name!r} is already "
+            f"registered by {existing.__module__}.{existing.__qualname__}",
+            PluginWarning,
+            stacklevel=3,
+        )
+        return False
     try:
         _add(ep.name, cls, origin=f"plugin {ep.value}")
     except AlgorithmError as exc:
@@ -114,20 +123,20 @@ def _load_plugin(ep: importlib.metadata.EntryPoint) -> bool:
     return True
 
 
+#: Registered names whose plugins have been looked at for a clash (once per process: the
+#: look costs a scan of the installed packages, some 5 ms).
+_CLASH_CHECKED: set[str] = set()
+
+
 def _refuse_clashes(name: str | None = None) -> None:
-    """Warn about plugins (all, or those called ``name``) named like an algorithm already
-    registered by another class: they are never loaded, the registered one stays."""
+    """Report plugins (all, or those called ``name``) named like an algorithm already
+    registered by another class (:class:`PluginWarning`): the registered one stays."""
+    if name is not None and name in _CLASH_CHECKED:
+        return
     for ep in _plugin_entry_points():
-        cls = _REGISTRY.get(ep.name)
-        if cls is None or (name is not None and ep.name != name):
-            continue
-        if ep.value.replace(" ", "") != f"{cls.__module__}:{cls.__qualname__}":
-            warnings.warn(
-                f"IOC plugin {ep.name!r} ({ep.value}) skipped: name clash refused, {ep.name!r} is already "
-                f"registered by {cls.__module__}.{cls.__qualname__}",
-                PluginWarning,
-                stacklevel=3,
-            )
+        if ep.name in _REGISTRY and (name is None or ep.name == name):
+            _load_plugin(ep)
+    _CLASH_CHECKED.update(_REGISTRY if name is None else (name,))
 
 
 def algorithms() -> list[str]:
