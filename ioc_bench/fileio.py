@@ -191,6 +191,7 @@ def check_output_file(path: Any) -> Path:
     if path.name in ("", ".", ".."):
         raise PathError(f"{path} names a directory, not a file")
     existing, tail = _locate(path)
+    _refuse_pseudo(path, _real(existing).joinpath(*tail))
     if not tail:
         mode = os.stat(existing).st_mode
         if stat.S_ISDIR(mode):
@@ -258,6 +259,8 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file", foll
     (``fstat``) before reading: FIFOs, devices (``/dev/zero``), folders and files over the
     limit are refused, as are symbolic links when ``follow_symlinks`` is False.
     """
+    if not follow_symlinks and os.path.islink(check_path_text(path, f"the path of the {what}")):
+        raise PathError(f"{path} is a symbolic link; a {what} must be a regular file")
     path = check_input_file(path, what)  # a clear message before opening anything (opening a device can act)
     flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
     if not follow_symlinks:

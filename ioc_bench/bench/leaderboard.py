@@ -31,7 +31,7 @@ from ioc_bench.bench.conditions import CONDITIONS
 from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
-from ioc_bench.fileio import atomic_write_many, json_text
+from ioc_bench.fileio import atomic_write_many, check_output_dir, check_output_file, json_text
 from ioc_bench.weights import WEIGHT_SETS
 
 #: The files a leaderboard is written as, in its output folder.
@@ -331,10 +331,14 @@ def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, sou
     Both are rendered before either is written, and written with
     :func:`~ioc_bench.fileio.atomic_write_many`: an error leaves the old board whole.
     ``leaderboard.json`` records the SHA-256 of the ``README.md`` written with it.
+    Raises ``ValueError`` for no results, or an ``out`` (or a file in it) that cannot be
+    written (:mod:`ioc_bench.fileio`'s checks), before anything is written.
     """
     if not results:
         raise ValueError("no case results to summarise")
-    out = Path(out)
+    out = check_output_dir(out)
+    for name in FILES:
+        check_output_file(out / name)
     md = markdown(results, source).encode()
     data = {
         "generated_by": f"ioc-bench leaderboard {source}",

@@ -198,8 +198,8 @@ def _read(path: str | os.PathLike, root: str | os.PathLike | None) -> tuple[Case
         if root is not None:
             check_inside(root, Path(path).parent)
         raw = read_bytes(path, MAX_RESULT_BYTES, what="result file", follow_symlinks=False)
-    except PathError as exc:
-        raise ResultFileError(f"cannot read result file {path}: {_one_line(exc)}") from None
+    except PathError as exc:  # its message names the file
+        raise ResultFileError(_one_line(exc)) from None
     try:
         data = load_json(raw.decode("utf-8"))
     except (ValueError, UnicodeDecodeError) as exc:
@@ -316,7 +316,10 @@ def check_result(result: CaseResult) -> None:
     expected = unit(np.array([truth[COST_FEATURES.index(f)] if f in COST_FEATURES else 0.0 for f in names]))
     true = np.array(result.true_weights, dtype=float)
     if not np.all(np.isfinite(true)) or np.max(np.abs(true - expected)) > TRUTH_TOLERANCE:
-        raise ValueError(f"true_weights {shown(list(result.true_weights))} are not weight set {result.weight_set!r}'s")
+        raise ValueError(
+            f"true_weights {shown(list(result.true_weights))} are not the truth of weight set "
+            f"{shown(result.weight_set)} over {list(names)}, {shown([round(x, 6) for x in expected.tolist()])}"
+        )
     _check_estimate(result)
     _check_numbers(result)
     if not STATUS_PATTERN.fullmatch(result.status):
@@ -346,8 +349,8 @@ def _check_numbers(result: CaseResult) -> None:
         if math.isnan(value) and may_be_nan:
             return
         if not 0 <= value <= upper:
-            bound = "" if upper == math.inf else f" and at most {upper:g}"
-            raise ValueError(f"{name} must be a non-negative finite number{bound}, got {shown(value)}")
+            what = "a non-negative finite number" if upper == math.inf else f"a number from 0 to {upper:g}"
+            raise ValueError(f"{name} must be {what}, got {shown(value)}")
 
     check("weight_error", result.weight_error, 1.0, may_be_nan=result.failed)
     check("trajectory_error", result.trajectory_error, math.inf)

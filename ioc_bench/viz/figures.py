@@ -29,7 +29,7 @@ from ioc_bench.bench.conditions import AXES, CONDITIONS
 from ioc_bench.bench.results import load_results, no_results_message, run_slug
 from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.fileio import atomic_write_text, check_name
+from ioc_bench.fileio import atomic_write_text, check_name, check_output_dir, check_output_file
 from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
 from ioc_bench.viz.convergence import draw_convergence
@@ -450,12 +450,15 @@ def make_figures(
     Returns figure name -> path: ``table1`` (always, saying so if it has no data),
     ``figure4_<algorithm>`` / ``figure5_<algorithm>`` for algorithms with ideal /
     imperfect-condition cases, and ``figure6`` (see :func:`output_names`). Raises
-    ``ValueError`` as :func:`select_results` does.
+    ``ValueError`` as :func:`select_results` does, and for an ``out_dir`` (or a file in it)
+    that cannot be written (:mod:`ioc_bench.fileio`'s checks), all before drawing.
     """
     selected = select_results(results_dir, algorithms)
     names = output_names(selected)
     results = _slugged(selected)
-    out = Path(out_dir)
+    out = check_output_dir(out_dir)
+    for name in names.values():
+        check_output_file(out / name)
     written = {"table1": write_table1(results, out / names["table1"])}
     for figure, plot in (("figure4", plot_figure4), ("figure5", plot_figure5)):
         for alg in sorted({r.algorithm for r in results}):
