@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         output_dir(args.out)
     for path, _demo in demos:  # every file the replays write, checked before the first replay
         for suffix in ("png",) if args.no_video else ("png", "gif"):
-            output_file(_out_dir(path, args) / f"{path.stem}_replay.{suffix}", "--out" if args.out else "output")
+            output_file(_out_dir(path, args) / f"{path.stem}_replay.{suffix}", "--out" if args.out else "replay output")
     mujoco_log_to_stderr()  # never a MUJOCO_LOG.TXT in the current folder
     results = [_replay_one(path, demo, args) for path, demo in demos]
     if not args.json and len(results) > 1:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import stat
 import zipfile
 from collections.abc import Callable
@@ -315,7 +316,7 @@ CASES: list[Case] = [
     C("figures-out-empty", ROUND3, "figures {res:valid} --out {empty}", "empty string"),
     C("gait-out-proc", ROUND3, "gait --out /proc/demo.npz", "under /proc"),
     C("ioc-out-sys", ROUND3, "ioc --out /sys/ioc_result.json", "under /sys"),
-    C("run-out-proc", ROUND3, "run --out /proc/self/results", "under /proc"),
+    C("run-out-proc", ROUND3, "run --out /proc/results", "under /proc"),
     C("replay-out-sys", ROUND3, "replay {demo} --out /sys/replays", "under /sys"),
     C("leaderboard-out-proc", ROUND3, "leaderboard {res:valid} --out /proc/board", "under /proc"),
     C("figures-out-dev", ROUND3, "figures {res:valid} --out /dev/figs", "under /dev"),
@@ -342,7 +343,7 @@ CASES: list[Case] = [
     C("ioc-config-huge-text", ROUND3, "ioc --config {huge-config}", "n_random must be an integer, got [1, 1,"),
     C("ioc-config-huge-int", ROUND3, 'ioc --config {"n_random":100000000000000000000000}',
       "n_random must be an integer within ±2147483647"),
-    C("ioc-config-float-for-int", ROUND3, 'ioc --config {"n_random":1e23}', "n_random must be an integer"),
+    C("ioc-config-1e23", ROUND3, 'ioc --config {"n_random":1e23}', "n_random must be an integer"),
     C("ioc-config-int-beyond-float", ROUND3, "ioc --config {huge-int-config}", "perturbation must be a finite number"),
     C("replay-meta-nested", ROUND3, "replay {demo:meta-nested}", "'meta' header is JSON nested deeper than 64 levels"),
     C("replay-n-intervals-huge", ROUND3, "replay {demo:n-intervals-huge}", "n_intervals must be an integer from 0"),
@@ -484,7 +485,8 @@ def test_bad_input_exits_2_with_one_line(case: Case, tmp_path, good_demo, make_r
     assert space.snapshot() == before, "a refused command changed its folder"
     assert not any(cwd.iterdir()), f"written in the current folder: {list(cwd.iterdir())}"
     shown_line = _shown([lines[0]], tmp_path).replace("n" * 256, "{long}").replace("d" * 200, "{d200}")
-    ROWS[case.id] = (case.source, _shown(["ioc-bench", *case.argv]), exc.value.code, shown_line)
+    env = [f"IOC_BENCH_CACHE={case.cache or chr(39) * 2}"] if case.cache else []
+    ROWS[case.id] = (case.source, _shown([*env, "ioc-bench", *case.argv]), exc.value.code, shown_line)
 
 
 def test_a_board_written_into_its_results_folder_is_not_read_back(tmp_path, make_result, capsys):
@@ -638,6 +640,7 @@ def _shown(parts: list[str], tmp: Path | None = None) -> str:
     text = " ".join(parts)
     if tmp is not None:
         text = text.replace(str(tmp), "<tmp>")
+        text = re.sub(r"/\S*?pytest-\d+/[^/'\s.]*", "<tmp>", text)  # a scratch path cut short in a message
     return text.replace("|", "\\|")
 
 
@@ -664,6 +667,83 @@ RESULT_HANDLING = [
 ]  # fmt: skip
 
 
+#: Issue 24 (round 3), by class: what it found, what holds now, and where that is shown
+#: (besides the rows above marked "issue 24").
+ROUND3_HANDLING = [
+    ("figures wrote a PNG outside --out for a result whose algorithm is x/../../ESCAPED",
+     "a result's algorithm must be a valid name; figure file names are built from checked names only",
+     "tests/viz/test_figures.py::test_output_names_come_from_checked_identifiers_only"),
+    ("run followed a linked algorithm folder inside --out and wrote outside it",
+     "every case's folder must resolve inside --out: checked for every case before the run, again before each write",
+     "tests/bench/test_results.py::test_a_case_folder_leading_out_of_the_results_is_refused_before_and_at_writing"),
+    ("readers followed links named like results (/etc/passwd, /dev/zero), a FIFO blocked leaderboard forever",
+     "result files are opened without following links and without blocking, checked to be regular files on the "
+     "open descriptor, at most 32 MiB read",
+     "tests/test_fileio.py::test_read_bytes_opens_regular_files_only_within_a_limit, "
+     "tests/test_hostile_inputs.py::test_property_a_hostile_input_path_is_refused_without_blocking"),
+    ("leaderboard --out '' wrote into the current folder; replay left MUJOCO_LOG.TXT there",
+     "every path argument is parsed by one type that refuses ''; MuJoCo warnings go to stderr",
+     "tests/cli/test_replay_cli.py::test_mujoco_warnings_go_to_stderr_not_to_a_log_file"),
+    ("one algorithm's results filed under another's names were taken as done, and mixed in the leaderboard; "
+     "a case in several files was counted several times",
+     "a file's content must be the case its name says (every CaseSpec field compared through the key), so one "
+     "case has one file; run refuses a file that is not its own case",
+     "tests/bench/test_results.py::test_stored_result_is_never_another_case, "
+     "tests/test_hostile_inputs.py::test_property_a_record_under_another_case_name_is_refused"),
+    ("another algorithm, unknown condition or weight set, duplicate or unknown features, negative errors or times, "
+     "zero true weights were rendered as valid; n_solves 10**30 ended in a traceback",
+     "every field typed and in range, the true weights the weight set's",
+     "tests/bench/test_results.py::test_out_of_range_values_are_refused, "
+     "tests/test_hostile_inputs.py::test_property_a_spoilt_record_is_refused_with_one_line_naming_the_file"),
+    ("run_case(demo=<penalize-knee demonstration>, weights='nominal') scores against the wrong truth",
+     "open: run_case is the lead's (bench/case.py); it should compare demo.weights and demo.task with the case's",
+     "-"),
+    ("outputs under /proc or /sys, through a link loop, with a 256-byte name, or '' passed the check "
+     "(os.access says yes as root) and failed after the solve",
+     "one policy (ioc_bench.fileio) for every command and the API, writability probed by making an unnamed file",
+     "tests/test_fileio.py::test_output_dirs_that_would_fail_after_the_work_are_refused, "
+     "tests/test_hostile_inputs.py::test_property_every_command_refuses_a_hostile_path_before_any_work"),
+    ("IOC_BENCH_CACHE naming a file failed after 26 s", "the cache folder is checked before the work (ioc, run)",
+     "rows ioc-cache-a-file, run-cache-a-file above"),
+    ("README.md being a folder in the leaderboard's --out left a temporary file",
+     "refused up front; atomic_write_many removes every staged temporary when a rename fails",
+     "tests/test_fileio.py::test_atomic_write_many_leaves_no_temporary_when_a_rename_fails"),
+    ("deep JSON raised RecursionError; a 100 KB config was echoed whole; n_random 1e23 was accepted",
+     "JSON from outside is read at most 64 levels deep; messages are cut to 400 characters; ints are ints, "
+     "config ints within a C int",
+     "tests/test_hostile_inputs.py::test_property_json_of_any_depth_is_a_value_or_a_value_error"),
+    ("run --list --suite nope --json ignored both; an unknown algorithm listed refused plugins; a plugin named "
+     "like a built-in was ignored silently",
+     "--list honours both; only algorithms that load are listed; the clash is reported as 'name clash refused'",
+     "tests/cli/test_plugins_cli.py"),
+    ("Task(10**400) raised OverflowError; Task(np.float32(0.27)) was refused",
+     "every positive finite real is a speed (NumPy scalars at their own precision's decimal), the rest a ValueError",
+     "tests/test_hostile_inputs.py::test_property_task_takes_every_positive_finite_real"),
+    ("the differentiable view, IOCProblem.optimize(starts=10**9), gym.make(..., demonstration=5), "
+     "reset(options=5), NaN reward settings",
+     "not in this table: the lead's (ioc/) and the environment's (envs/) own checks", "-"),
+]  # fmt: skip
+
+#: The one error type each public entry point raises for bad input (every one a ``ValueError``).
+ENTRY_POINT_ERRORS = [
+    ("Task(speed, step_length)", "ValueError", "naming speed or step_length"),
+    ("parse_weights(spec, features)", "ValueError", ""),
+    ("optimize_gait(...)", "ValueError", "naming the argument; before any solve"),
+    ("Demonstration.load(path)", "DemonstrationFileError", "for a bad path too (None, a folder, FIFO, device)"),
+    ("get_algorithm / make_algorithm / canonical_config", "AlgorithmError", "unknown name, bad config"),
+    ("run_case(...)", "ValueError", "AlgorithmError for the algorithm and its config"),
+    ("CaseSpec(...)", "ValueError", "AlgorithmError for the name and config"),
+    ("plan_run / run_cases(specs, out, ...)", "ValueError",
+     "PathError for out, ResultFileError for the files already there; before any work"),
+    ("read_result / load_results / stored_result / write_result", "ResultFileError", "naming the file"),
+    ("parse_result(data)", "ValueError", "naming the field"),
+    ("write_leaderboard(results, out)", "ValueError", "PathError for out and its two files; before writing"),
+    ("make_figures(results_dir, out_dir)", "ValueError",
+     "ResultFileError for the results, PathError for out_dir and each file; before drawing"),
+    ("fileio.check_* / read_bytes / check_inside / check_name", "PathError", ""),
+]  # fmt: skip
+
+
 def render_table() -> str:
     lines = [
         "# Bad input: every input tried, its exit code and its message",
@@ -671,8 +751,20 @@ def render_table() -> str:
         "Generated by `IOC_BENCH_WRITE_DOCS=1 python -m pytest tests/cli/test_bad_input.py` (the test",
         "fails when this file is not current). `<tmp>` is the test's scratch folder; `{file}` a plain file,",
         "`{demo}` a good demonstration, `{demo:<kind>}` one spoilt that way and `{res:<kind>}` a results folder",
-        "holding a bad result file of that kind (see the test). Every command line ran in-process with solving",
-        "disabled, so none of them got to any expensive work.",
+        "holding a bad result file of that kind (see the test); `{empty}` is the empty string, `{long}` a name of",
+        "256 bytes, `{loop}` a link to itself, `{dangling}` a link to nothing, `{deep}` a path of 4,2xx bytes,",
+        "`{nested-json}` 100,000 nested brackets, `{huge-config}` a 100 KB config. Every command line ran in-process",
+        "with solving disabled, so none of them got to any expensive work; each one also left its scratch folder",
+        "as it was and wrote nothing in the current folder (no file outside --out, no temporary left).",
+        "",
+        "What a path may be is decided in one place, `ioc_bench.fileio`, for every command and the API: not empty,",
+        "no NUL, names of at most 255 bytes and paths of at most 4095, no link loop or link to nothing, not under a",
+        "kernel pseudo-file system (/proc, /sys, /dev, or any proc/sysfs/devtmpfs/cgroup... mount; /dev/shm is",
+        "allowed), a folder one can write in (tried by making an unnamed file: as root `os.access` says yes to",
+        "everything) or a regular file to read (never a FIFO, device or folder; opened without blocking and at",
+        "most a size limit read). Paths inside a tree (result files under --out) must not lead out of it.",
+        "A result file must be a regular file inside its folder, every field typed and in range, and the case",
+        "its name says.",
         "",
         f"## Command line ({len(ROWS)} inputs)",
         "",
@@ -695,7 +787,23 @@ def render_table() -> str:
         lines.append(f"| {i} | {source} | `{name}` | {error} | {message} |")
     lines += ["", "## Result handling", "", "| issue 12 said | now | shown by |", "|---|---|---|"]
     lines += [f"| {said} | {now} | `{test}` |" for said, now, test in RESULT_HANDLING]
+    lines += ["", "## Round 3 (issue 24), by class", "", "| issue 24 said | now | shown by |", "|---|---|---|"]
+    lines += [f"| {said} | {now} | {_code(test)} |" for said, now, test in ROUND3_HANDLING]
+    lines += [
+        "",
+        "## The error each Python entry point raises for bad input",
+        "",
+        "Every one is a `ValueError` (or a subclass), raised before any expensive work, with a one-line message.",
+        "",
+        "| entry point | raises | note |",
+        "|---|---|---|",
+    ]
+    lines += [f"| `{entry}` | `{error}` | {note} |" for entry, error, note in ENTRY_POINT_ERRORS]
     return "\n".join(lines) + "\n"
+
+
+def _code(text: str) -> str:
+    return text if text == "-" or text.startswith("rows ") else f"`{text}`"
 
 
 def test_the_table_in_docs_is_current():
