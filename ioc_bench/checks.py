@@ -63,8 +63,10 @@ def load_json(text: str | bytes, max_depth: int = MAX_JSON_DEPTH) -> Any:
         value = json.loads(text)
     except RecursionError:
         raise ValueError(f"JSON nested deeper than {max_depth} levels") from None
-    except ValueError as exc:  # JSONDecodeError, or an integer literal too long to convert
+    except json.JSONDecodeError as exc:
         raise ValueError(f"not JSON ({one_line(str(exc), 120)})") from None
+    except ValueError:  # Python refuses to convert an integer literal of over 4300 digits
+        raise ValueError("JSON holding an integer of over 4300 digits") from None
     if json_depth(value) > max_depth:
         raise ValueError(f"JSON nested deeper than {max_depth} levels")
     return value

@@ -66,6 +66,8 @@ _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
 MAX_RESULT_BYTES = 32 * 2**20
 #: Most forward solves a case may record: a day of 1 ms solves is under 10^8.
 MAX_SOLVES = 10**9
+#: Longest time (seconds) a case may record: some 30 years.
+MAX_WALL_TIME = 1e9
 #: What a status may look like (``converged``, ``max_iterations``, ``infeasible``, ``failed``).
 STATUS_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
 #: How far a file's true weights may be from its weight set's (unit-norm) truth.
@@ -173,9 +175,9 @@ def check_case_path(root: str | os.PathLike, spec: CaseSpec) -> Path:
         check_path_text(path)
         folder = path.parent
         if folder.exists() or folder.is_symlink():
+            check_inside(root, folder)  # a link loop, or a link leading out
             if not folder.is_dir():
                 raise PathError(f"{folder} is not a directory")
-            check_inside(root, folder)
     except PathError as exc:
         raise ResultFileError(f"cannot write the result of {spec.key}: {_one_line(exc)}") from None
     return path
@@ -355,7 +357,7 @@ def _check_numbers(result: CaseResult) -> None:
     check("weight_error", result.weight_error, 1.0, may_be_nan=result.failed)
     check("trajectory_error", result.trajectory_error, math.inf)
     check("found_trajectory_error", result.found_trajectory_error, math.inf, may_be_nan=False)
-    check("wall_time", result.wall_time, math.inf, may_be_nan=False)
+    check("wall_time", result.wall_time, MAX_WALL_TIME, may_be_nan=False)
     check("demo_speed", result.demo_speed, math.inf, may_be_nan=False)
     if not 0 <= result.n_solves <= MAX_SOLVES:
         raise ValueError(f"n_solves must be between 0 and {MAX_SOLVES}, got {shown(result.n_solves)}")
