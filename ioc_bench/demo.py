@@ -22,7 +22,7 @@ import numpy as np
 
 from ioc_bench.checks import TypeMismatch, coerce, load_json, shown
 from ioc_bench.features import COST_FEATURES, model_features
-from ioc_bench.fileio import PathError, atomic_write, read_bytes
+from ioc_bench.fileio import PathError, atomic_write, check_output_file, read_bytes
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitParams
 from ioc_bench.task import Task
@@ -89,8 +89,12 @@ class Demonstration:
         return np.array([self.weights.get(f, 0.0) for f in COST_FEATURES])
 
     def save(self, path: str | os.PathLike) -> Path:
-        """Write the demonstration to ``path`` (``.npz``) atomically; returns the path."""
-        path = Path(path)
+        """Write the demonstration to ``path`` (``.npz``) atomically; returns the path.
+
+        Raises ``ValueError`` (:class:`~ioc_bench.fileio.PathError`) for a path that cannot
+        be written (see :func:`~ioc_bench.fileio.check_output_file`), before writing.
+        """
+        path = check_output_file(path)
         meta = {
             "schema": SCHEMA_VERSION,
             "weights": self.weights,
