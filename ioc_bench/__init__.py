@@ -10,11 +10,13 @@ from ioc_bench.bench.conditions import CONDITIONS, Condition
 from ioc_bench.demo import Demonstration, DemonstrationFileError
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES, DISTRACTORS, FEATURES
 from ioc_bench.ioc import (
+    API_VERSION,
     IOCAlgorithm,
     IOCProblem,
     IOCResult,
     IterationRecord,
     OracleSolution,
+    WeightRegion,
     algorithms,
     make_algorithm,
     register_algorithm,
@@ -26,6 +28,7 @@ from ioc_bench.weights import WEIGHT_SETS, parse_weights
 
 __all__ = [
     "ALL_FEATURES",
+    "API_VERSION",
     "CONDITIONS",
     "COST_FEATURES",
     "DISTRACTORS",
@@ -43,6 +46,7 @@ __all__ = [
     "SegmentParams",
     "Task",
     "WalkerParams",
+    "WeightRegion",
     "__version__",
     "algorithms",
     "make_algorithm",

@@ -30,7 +30,7 @@ from ioc_bench.trajectory import Trajectory
 from ioc_bench.trajopt.gait_figures import GaitFigures
 from ioc_bench.trajopt.local_minimum import LocalMinimumCheck
 from ioc_bench.trajopt.multistart import MultiStartSummary, StartRecord
-from ioc_bench.trajopt.solver import SolverReport
+from ioc_bench.trajopt.solution import SolverReport
 
 #: Version of the file layout; bump on any incompatible change.
 SCHEMA_VERSION = 2

@@ -165,6 +165,11 @@ def model_features(model: GaitModel) -> tuple[str, ...]:
     return tuple(n for n in ALL_FEATURES if FEATURES[n].requires in (None, *model.actuator_groups))
 
 
+def cost_features(model: GaitModel) -> tuple[str, ...]:
+    """The effort features a model's demonstrations are made with (its :data:`COST_FEATURES`)."""
+    return tuple(n for n in model_features(model) if n in COST_FEATURES)
+
+
 def check_names(names: Sequence[str]) -> tuple[str, ...]:
     """Validate feature names, raising ``ValueError`` that lists the valid ones."""
     unknown = [n for n in names if n not in FEATURES]

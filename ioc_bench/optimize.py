@@ -9,6 +9,7 @@ until it is, see :mod:`ioc_bench.trajopt.local_minimum`), and carries its gait f
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -18,11 +19,12 @@ from ioc_bench.features import evaluate, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
+from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, get_forward_problem
 from ioc_bench.trajopt.gait_figures import solved_gait_figures
 from ioc_bench.trajopt.initial_guess import multistart_guesses
 from ioc_bench.trajopt.local_minimum import verify_local_minimum
 from ioc_bench.trajopt.multistart import pick_best, solve_starts
-from ioc_bench.trajopt.solver import GaitSolver, SolveResult, StartPoint, get_solver
+from ioc_bench.trajopt.solution import SolveResult, StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS, StepRules
 from ioc_bench.weights import WeightSpec, parse_weights
 
@@ -99,12 +101,12 @@ def optimize_gait(
         raise ValueError(f"on_start_done must be callable, got {shown(on_start_done)}")
     if not isinstance(verify, (bool, np.bool_)):
         raise ValueError(f"verify must be True or False, got {shown(verify)}")
-    solver = get_solver(n_intervals, model)
+    forward = get_forward_problem(model, n_intervals)
+    request = SolveRequest(StartPoint(np.zeros(forward.n_x)), params, task, w, rules=rules)
     if init is not None:
-        start = StartPoint(solver.decision_vector(init.trajectory), *_duals(init, solver))
-        result = solver.solve(start, params, task, w, rules=rules)
-        return _demonstration(solver, result, w, params, task, None, rules, verify)
-    origins, points = _start_points(model, params, task, starts, seed, guesses, solver)
+        start = StartPoint(forward.vector(init.trajectory), *_duals(init, forward))
+        return _demonstration(forward, forward.solve(replace(request, start=start)), request, None, verify)
+    origins, points = _start_points(model, params, task, starts, seed, guesses, forward)
     done = [0]
 
     def progress(_i: int, _r: SolveResult) -> None:
@@ -112,9 +114,9 @@ def optimize_gait(
         if on_start_done:
             on_start_done(done[0], len(points))
 
-    results = solve_starts(points, params, task, w, n_intervals, workers, progress, rules, model)
+    results = solve_starts(forward, [replace(request, start=p) for p in points], workers, progress)
     best, summary = pick_best(results, origins)
-    return _demonstration(solver, results[best], w, params, task, summary, rules, verify)
+    return _demonstration(forward, results[best], request, summary, verify)
 
 
 def _instance(value: object, cls: type, what: str, example: str):
@@ -124,20 +126,19 @@ def _instance(value: object, cls: type, what: str, example: str):
     return value
 
 
-def _duals(init: Demonstration, solver: GaitSolver) -> tuple[np.ndarray | None, np.ndarray | None]:
-    n_x, n_g = solver.nlp.layout.size, len(solver.nlp.constraints.lb)
-    if init.lam_x.shape == (n_x,) and init.lam_g.shape == (n_g,):
+def _duals(init: Demonstration, forward: ForwardProblem) -> tuple[np.ndarray | None, np.ndarray | None]:
+    if init.lam_x.shape == (forward.n_x,) and init.lam_g.shape == (forward.n_g,):
         return init.lam_x, init.lam_g
     return None, None
 
 
-def _start_points(model, params, task, starts, seed, guesses, solver):
-    layout = solver.nlp.layout
-    tried = multistart_guesses(model, params, task.speed, task.step_length, solver.nlp.n_knots, starts, seed)
+def _start_points(model, params, task, starts, seed, guesses, forward: ForwardProblem):
+    layout = forward.step.layout
+    tried = multistart_guesses(model, params, task.speed, task.step_length, forward.n_knots, starts, seed)
     origins = [origin for origin, _ in tried]
     points = [StartPoint(layout.pack(blocks)) for _, blocks in tried]
     for j, demo in enumerate(guesses):
-        points.append(StartPoint(solver.decision_vector(demo.trajectory)))
+        points.append(StartPoint(forward.vector(demo.trajectory)))
         origins.append(f"guess {j}: weights {_fmt(demo.weight_vector)}")
     return origins, points
 
@@ -146,12 +147,14 @@ def _fmt(w: np.ndarray) -> str:
     return "(" + ", ".join(f"{x:.3g}" for x in w) + ")"
 
 
-def _demonstration(solver: GaitSolver, result, w, params, task, summary, rules, verify) -> Demonstration:
+def _demonstration(
+    forward: ForwardProblem, result: SolveResult, request: SolveRequest, summary, verify: bool
+) -> Demonstration:
     check = None
     if verify and result.report.success:
-        result, check = verify_local_minimum(solver, result, params, task, w, rules)
-    names = solver.nlp.features
-    features = evaluate(result.trajectory, params, names, solver.model)
+        result, check = verify_local_minimum(forward, result, request)
+    params, task, w, names = request.params, request.task, request.weights, forward.features
+    features = evaluate(result.trajectory, params, names, forward.model)
     return Demonstration(
         trajectory=result.trajectory,
         weights={f: float(x) for f, x in zip(names, w)},
@@ -160,10 +163,10 @@ def _demonstration(solver: GaitSolver, result, w, params, task, summary, rules, 
         task=task,
         solver=result.report,
         multistart=summary,
-        n_intervals=solver.nlp.n_intervals,
+        n_intervals=forward.n_intervals,
         lam_x=result.lam_x,
         lam_g=result.lam_g,
-        model=solver.model.name,
-        gait=solved_gait_figures(solver, result.x, result.trajectory, params, task, rules),
+        model=forward.model.name,
+        gait=solved_gait_figures(forward, result.x, result.trajectory, params, task, request.rules),
         local_minimum=check,
     )

@@ -22,8 +22,9 @@ from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.task import Task
+from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
 from ioc_bench.trajopt.initial_guess import perturbed_step
-from ioc_bench.trajopt.solver import StartPoint, get_solver
+from ioc_bench.trajopt.solution import StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 from ioc_bench.weights import full_weights, parse_weights
 
@@ -58,22 +59,22 @@ def time_solver(
     say = on_progress or (lambda _msg: None)
     params, task = WalkerParams(), Task()
     t0 = time.perf_counter()
-    solver = get_solver(n_intervals)
+    forward = get_forward_problem(n_intervals=n_intervals)
     build = time.perf_counter() - t0
     w = full_weights(parse_weights("nominal"), ("hip", "knee", "dtau"))
     cold = []
     for i in range(repeats):
-        x0 = solver.nlp.layout.pack(
-            perturbed_step(WALKER, params, task.speed, solver.nlp.n_knots, np.random.default_rng([1, i]))
+        x0 = forward.step.layout.pack(
+            perturbed_step(WALKER, params, task.speed, forward.n_knots, np.random.default_rng([1, i]))
         )
-        cold.append(solver.solve(StartPoint(x0), params, task, w))
+        cold.append(forward.solve(SolveRequest(StartPoint(x0), params, task, w)))
         say(f"cold {i + 1}/{repeats}")
     base = min((r for r in cold if r.report.success), key=lambda r: r.report.objective, default=cold[0])
     rng = np.random.default_rng(2)
     warm = []
     for i in range(repeats):
         wi = w * np.exp(WARM_WEIGHT_NOISE * rng.normal(size=w.shape))
-        warm.append(solver.solve(StartPoint(base.x, base.lam_x, base.lam_g), params, task, wi / np.linalg.norm(wi)))
+        warm.append(forward.solve(SolveRequest(base.point, params, task, wi / np.linalg.norm(wi))))
         say(f"warm {i + 1}/{repeats}")
     multi = []
     for i in range(multistart_repeats):

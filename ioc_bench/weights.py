@@ -15,6 +15,18 @@ WEIGHT_SETS: dict[str, tuple[float, float, float]] = {
     "penalize-knee": (1.0, 10.0, 1.0),
     "penalize-dtau": (1.0, 1.0, 10.0),
 }
+#: The factor a ``penalize-<feature>`` set puts on its feature (the others 1).
+PENALTY = 10.0
+
+
+def weight_sets(cost: Sequence[str] = COST_FEATURES) -> dict[str, tuple[float, ...]]:
+    """The named weight sets over a model's cost features: ``nominal`` (all ones) and one
+    ``penalize-<feature>`` each (10 on it, 1 elsewhere); the paper's four for the walker."""
+    sets = {"nominal": tuple(1.0 for _ in cost)}
+    for f in cost:
+        sets[f"penalize-{f}"] = tuple(PENALTY if g == f else 1.0 for g in cost)
+    return sets
+
 
 WeightSpec = str | Sequence[float] | Mapping[str, float] | np.ndarray
 
@@ -52,20 +64,23 @@ def _numbers(values: object) -> np.ndarray:
 def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> np.ndarray:
     """Unit-norm weights over ``features`` from a set name, numbers, or a name->value map.
 
-    Accepts a name of :data:`WEIGHT_SETS`, comma-separated numbers (``"1,10,1"``), a
-    sequence of numbers (one per feature), or a mapping from feature name to weight
-    (missing features get 0). Raises ``ValueError`` with a one-line reason otherwise.
+    Accepts a name of :func:`weight_sets` for the cost features among ``features`` (for the
+    walker: :data:`WEIGHT_SETS`), comma-separated numbers (``"1,10,1"``), a sequence of
+    numbers (one per cost feature, or one per feature), or a mapping from feature name to
+    weight (missing features get 0). Raises ``ValueError`` with a one-line reason otherwise.
     """
+    cost = tuple(f for f in features if f in COST_FEATURES)
+    sets = weight_sets(cost)
     if isinstance(spec, str):
-        if spec in WEIGHT_SETS:
-            values: Sequence[float] = WEIGHT_SETS[spec]
+        if spec in sets:
+            values: Sequence[float] = sets[spec]
         elif "," in spec or _is_number(spec):
             try:
                 values = [float(s) for s in spec.split(",")]
             except ValueError:
                 raise ValueError(f"cannot read weights {spec!r}: expected numbers like 1,10,1") from None
         else:
-            raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(WEIGHT_SETS)}")
+            raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(sets)}")
     elif isinstance(spec, Mapping):
         unknown = [k for k in spec if k not in features]
         if unknown:
@@ -73,11 +88,12 @@ def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> 
         values = list(_numbers([spec.get(f, 0.0) for f in features]))
     else:
         values = list(_numbers(spec))
-    if len(values) == len(COST_FEATURES) and len(features) > len(COST_FEATURES):
-        values = list(values) + [0.0] * (len(features) - len(COST_FEATURES))
+    if len(values) == len(cost) and len(features) > len(cost):  # over the cost features: others 0
+        given = dict(zip(cost, values))
+        values = [given.get(f, 0.0) for f in features]
     if len(values) != len(features):
-        counts = f"{len(COST_FEATURES)} weights ({', '.join(COST_FEATURES)})"
-        if len(features) != len(COST_FEATURES):
+        counts = f"{len(cost)} weights ({', '.join(cost)})"
+        if len(features) != len(cost):
             counts += f" or {len(features)} ({', '.join(features)})"
         raise ValueError(f"expected {counts}, got {len(values)}")
     return normalize(values)

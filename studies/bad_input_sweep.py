@@ -547,21 +547,15 @@ def main() -> int:
 
 def _set_traps() -> None:
     """Replace everything that solves with a trap: an input that reaches it was checked too late."""
-    import importlib
-
-    import ioc_bench.optimize as optimize
-    import ioc_bench.trajopt.solver as solver
     from ioc_bench.bench import runner
-
-    for module in ("ioc_bench.bench.process_pool", "ioc_bench.bench.ray_executor"):
-        importlib.import_module(module)
+    from ioc_bench.trajopt.forward_problem import ForwardProblem
 
     def trap(*args, **kwargs):
         raise _Trap()
 
     runner.prepare_demonstrations = trap
-    solver.get_solver = trap
-    optimize.get_solver = trap
+    ForwardProblem.solve = trap  # every solve, whoever asks
+    ForwardProblem.__init__ = trap  # and every build
 
 
 if __name__ == "__main__":

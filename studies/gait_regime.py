@@ -29,9 +29,10 @@ from ioc_bench.model.gait_model import GuessShape
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
+from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
 from ioc_bench.trajopt.gait_figures import gait_figures
 from ioc_bench.trajopt.initial_guess import perturbed_step, rough_step
-from ioc_bench.trajopt.solver import StartPoint, get_solver
+from ioc_bench.trajopt.solution import StartPoint
 from ioc_bench.trajopt.step_problem import StepRules
 
 #: Exponent of g in each cost feature's per-step sum (torque^2 time; (torque/time)^2 time):
@@ -63,22 +64,22 @@ def figures(traj, params, speed: float, active=None) -> dict:
     }
 
 
-def solve_held(solver, params, rules, w, speed: float, length: float, starts: int, extra=()) -> list:
+def solve_held(forward, params, rules, w, speed: float, length: float, starts: int, extra=()) -> list:
     """Solves of the step held at ``length``: rough and perturbed guesses, plus ``extra`` starts."""
     base = GuessShape(step=length)
-    guesses = [rough_step(WALKER, params, speed, solver.nlp.n_knots, base)] if starts else []
+    guesses = [rough_step(WALKER, params, speed, forward.n_knots, base)] if starts else []
     guesses += [
-        perturbed_step(WALKER, params, speed, solver.nlp.n_knots, np.random.default_rng([11, i]), base)
+        perturbed_step(WALKER, params, speed, forward.n_knots, np.random.default_rng([11, i]), base)
         for i in range(1, starts)
     ]
-    points = [StartPoint(solver.nlp.layout.pack(g)) for g in guesses] + list(extra)
-    return [solver.solve(p, params, Task(speed, length), w, rules=rules) for p in points]
+    points = [StartPoint(forward.step.layout.pack(g)) for g in guesses] + list(extra)
+    return [forward.solve(SolveRequest(p, params, Task(speed, length), w, rules=rules)) for p in points]
 
 
-def describe(solver, best, params, rules, w, speed: float, length: float) -> dict:
+def describe(forward, best, params, rules, w, speed: float, length: float) -> dict:
     phi = evaluate(best.trajectory, params)
     seconds = TIME_UNIT * best.trajectory.duration
-    active = solver.active_bounds(best.x, params, Task(speed, length), rules)
+    active = forward.active_bounds(best.x, params, Task(speed, length), rules)
     out = {
         "features": phi,
         "per_step_g": {f: phi[f] * seconds for f in G_POWER},
@@ -86,9 +87,8 @@ def describe(solver, best, params, rules, w, speed: float, length: float) -> dic
         "cost_per_time": float(w[:3] @ [phi[f] for f in G_POWER]),
     }
     out["cost_per_step"] = out["cost_per_time"] * seconds
-    warm = StartPoint(best.x, best.lam_x, best.lam_g)
     for cost in ("per-step", "per-time"):
-        r = solver.solve(warm, params, Task(speed), w, rules=StepRules(liftoff=rules.liftoff, cost=cost))
+        r = forward.solve(SolveRequest(best.point, params, Task(speed), w, rules=StepRules(rules.liftoff, cost)))
         free = {"status": r.report.status, "success": r.report.success}
         if r.report.success:
             free |= figures(r.trajectory, params, speed) | {"cost": r.report.objective}
@@ -100,7 +100,7 @@ def run_chain(cfg: tuple) -> list[dict]:
     """One (lift-off, units, speed) chain over every step length, with continuation: each
     length also starts from its neighbours' optima (one pass up, one down)."""
     liftoff, units, speed, starts = cfg
-    solver = get_solver()
+    forward = get_forward_problem()
     params, rules, w = WalkerParams(), StepRules(liftoff=liftoff, cost="per-step"), weights_for(units)
     best: dict[float, object] = {}
 
@@ -113,22 +113,22 @@ def run_chain(cfg: tuple) -> list[dict]:
 
     for i, length in enumerate(STEP_LENGTHS):
         extra = [StartPoint(best[STEP_LENGTHS[i - 1]].x)] if i and STEP_LENGTHS[i - 1] in best else []
-        keep(length, solve_held(solver, params, rules, w, speed, length, starts, extra))
+        keep(length, solve_held(forward, params, rules, w, speed, length, starts, extra))
     for i in range(len(STEP_LENGTHS) - 2, -1, -1):
         length, above = STEP_LENGTHS[i], STEP_LENGTHS[i + 1]
         if above in best:
-            keep(length, solve_held(solver, params, rules, w, speed, length, 0, [StartPoint(best[above].x)]))
+            keep(length, solve_held(forward, params, rules, w, speed, length, 0, [StartPoint(best[above].x)]))
     rows = []
     for length in STEP_LENGTHS:
         row = {"liftoff": liftoff, "units": units, "speed": speed, "held_step": length}
         if length in best:
-            row |= describe(solver, best[length], params, rules, w, speed, length)
+            row |= describe(forward, best[length], params, rules, w, speed, length)
         rows.append(row)
     return rows
 
 
 def sweep(starts: int, workers: int) -> list[dict]:
-    get_solver()  # built once; forked workers inherit it
+    get_forward_problem()  # built once; forked workers inherit it
     chains = list(itertools.product(("paper", "relaxed"), ("g", "dimensionless"), SPEEDS, [starts]))
     rows: list[dict] = []
     with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:

@@ -27,7 +27,8 @@ from ioc_bench.features import COST_FEATURES, evaluate
 from ioc_bench.ioc.problem import PROJECTION_SCALE, IOCProblem
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.task import Task
-from ioc_bench.trajopt.solver import StartPoint, get_solver
+from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
+from ioc_bench.trajopt.solution import StartPoint
 from ioc_bench.trajopt.tracking import signal_spans, tracking_terms
 from ioc_bench.weights import parse_weights
 
@@ -39,7 +40,7 @@ def row(name: str, trajectory, problem: IOCProblem, truth) -> str:
 
 
 def main() -> None:
-    cond, params, solver = get_condition("noise-kinematics"), WalkerParams(), get_solver()
+    cond, params, solver = get_condition("noise-kinematics"), WalkerParams(), get_forward_problem()
     print("| projection | hip / knee / dtau | tracking error | true step's tracking error |")
     print("|---|---|---|---|")
     for name in ("nominal", "penalize-knee"):
@@ -56,12 +57,12 @@ def main() -> None:
                 v=savgol_filter(obs.v, window, 3, axis=0, mode="interp"),
             )
             print(row(f"Savitzky-Golay {window} knots", problem.project(smooth).trajectory, problem, demo.trajectory))
-        ref, track = tracking_terms(obs, PROJECTION_SCALE, signal_spans(obs, len(solver.nlp.actuators)))
+        tracking = tracking_terms(obs, PROJECTION_SCALE, signal_spans(obs, len(solver.actuators)))
         start = StartPoint(solver.guess_vector(obs, params))
         for mu in (1e-3, 1e-2, 1e-1):
-            w = np.zeros(len(solver.nlp.features))
+            w = np.zeros(len(solver.features))
             w[: len(COST_FEATURES)] = mu / np.sqrt(len(COST_FEATURES))
-            result = solver.solve(start, params, problem.task, w, ref, track)
+            result = solver.solve(SolveRequest(start, params, problem.task, w, tracking))
             label = f"plus uniform effort x {mu:g}" + ("" if result.report.success else " (failed)")
             print(row(label, result.trajectory, problem, demo.trajectory))
 

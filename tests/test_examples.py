@@ -41,7 +41,7 @@ def test_gradient_algorithm_example_descends(penalize_knee_cached, monkeypatch):
     spec.loader.exec_module(module)
     result = ioc_bench.run_case("tracking-gradient", "penalize-knee", "ideal", seed=0, config={"iterations": 3})
     errors = [h["tracking_error"] for h in result.history]
-    assert len(errors) == 3 and errors[-1] < errors[0]
+    assert len(errors) == 3 and errors[-1] < errors[0], (result.status, result.reason)
     assert result.oracle["calls"]["sensitivity"] == 3
     assert "._" not in GRADIENT_EXAMPLE.read_text().replace("__", "")  # no private access
     assert sum(1 for line in GRADIENT_EXAMPLE.read_text().splitlines() if line.strip()) < 60

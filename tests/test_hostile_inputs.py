@@ -330,15 +330,14 @@ _COMMANDS = [
 def test_property_every_command_refuses_a_hostile_path_before_any_work(
     tmp_path_factory, make_result, command, recipe, capsys, monkeypatch
 ):
-    import ioc_bench.optimize as optimize
-    import ioc_bench.trajopt.solver as solver
     from ioc_bench.bench import runner
+    from ioc_bench.trajopt.forward_problem import ForwardProblem
 
     def forbidden(*args, **kwargs):
         raise AssertionError("expensive work started before the path was checked")
 
-    for module, name in ((runner, "prepare_demonstrations"), (solver, "get_solver"), (optimize, "get_solver")):
-        monkeypatch.setattr(module, name, forbidden)
+    for owner, name in ((runner, "prepare_demonstrations"), (ForwardProblem, "solve"), (ForwardProblem, "__init__")):
+        monkeypatch.setattr(owner, name, forbidden)
     tmp = tmp_path_factory.mktemp("cli")
     res = tmp / "results"
     write_result(res, CaseSpec("log-barrier", "nominal", "ideal", 0), make_result())

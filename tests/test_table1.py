@@ -6,7 +6,7 @@ import pytest
 
 from ioc_bench import WEIGHT_SETS, Task, optimize_gait
 from ioc_bench.table1 import feature_table
-from ioc_bench.trajopt.solver import FEASIBILITY_TOL
+from ioc_bench.trajopt.solution import FEASIBILITY_TOL
 
 
 @pytest.mark.parametrize("speed", [0.27, 0.34])

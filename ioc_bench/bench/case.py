@@ -1,40 +1,154 @@
-"""One benchmark case: an algorithm recovering one weight set under one condition.
+"""One benchmark case: an algorithm recovering one weight set of one model under one condition.
 
-``run_case`` makes (or loads) the demonstration, shows the IOC what the condition lets it
-see, runs the algorithm, and scores its answer. Whatever the algorithm does (raises,
-returns NaN or negative or wrongly sized weights), the case ends in a :class:`CaseResult`
-with a status and a reason; it never raises for the algorithm's faults.
+A :class:`CaseSpec` names a case and is resolved once, when made: its model, its true
+weights, its condition and its config are checked and kept. :func:`run_case` (the Python
+API and ``ioc-bench ioc``) and the suite runner (``ioc-bench run``) both go through
+:func:`run_spec`: make (or load) the demonstration, show the IOC what the condition lets it
+see, run the algorithm, check what it returned at the boundary
+(:mod:`ioc_bench.ioc.contract`) and score it on the case's own problem. Whatever the
+algorithm does (raises, returns something the contract does not allow), the case ends in a
+:class:`CaseResult` with a status, a reason, and the time and forward solves it spent; it
+never raises for the algorithm's faults.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
+import os
 import time
 import traceback
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ioc_bench._version import __version__
 from ioc_bench.bench.conditions import Condition, get_condition
-from ioc_bench.bench.demos import demonstration
+from ioc_bench.bench.demos import DemoRequest, demonstration
 from ioc_bench.bench.observe import observe
 from ioc_bench.bench.scoring import unit, weight_error
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
-from ioc_bench.features import COST_FEATURES
+from ioc_bench.features import cost_features
 from ioc_bench.ioc.algorithm import IOCResult
-from ioc_bench.ioc.problem import IOCProblem, OracleSolution
-from ioc_bench.ioc.registry import AlgorithmError, check_config, get_algorithm, make_algorithm
+from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.oracle import OracleSolution
+from ioc_bench.ioc.problem import IOCProblem
+from ioc_bench.ioc.registry import (
+    AlgorithmError,
+    canonical_config,
+    check_config,
+    check_name,
+    get_algorithm,
+    make_algorithm,
+)
 from ioc_bench.metrics import trajectory_error
-from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
 
 #: Stream of the observation-noise generator (kept apart from the algorithm's streams).
 NOISE_STREAM = 7
 #: Proximal weight of the first scoring solve (see :func:`regenerate`).
 SCORING_PROXIMAL = 30.0
+#: The model a case uses unless it names one (and whose result files carry no model in their name).
+DEFAULT_MODEL = "walker"
+
+
+@dataclass(frozen=True)
+class CaseSpec:
+    """What identifies a case, resolved and checked once, when made.
+
+    Raises ``ValueError`` (one line) for an unsafe algorithm name, an unknown model, weight
+    set or condition, a condition whose features the model lacks, a seed that is not a
+    non-negative integer, or a bad config; ``config`` is stored in canonical form (which
+    needs the algorithm to be registered, unless it is empty).
+
+    Attributes:
+        algorithm: the algorithm's registered name.
+        weight_set: the true weights: a set name of the model, or ``"hip,knee,dtau"`` numbers.
+        condition: the condition's name (a :class:`Condition` is accepted and kept).
+        seed: the case's seed (demonstration multi-start, observation noise, algorithm).
+        config: the algorithm's config overrides (canonical: fields that differ from defaults).
+        model: the gait model's name.
+    """
+
+    algorithm: str
+    weight_set: str
+    condition: str
+    seed: int
+    config: Mapping[str, Any] = field(default_factory=dict)
+    model: str = DEFAULT_MODEL
+    #: (C,) unit true weights over the model's cost features, parsed once from ``weight_set``.
+    true_weights: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        check_name(self.algorithm)
+        cond = self.condition if isinstance(self.condition, Condition) else get_condition(self.condition)
+        object.__setattr__(self, "condition", cond.name)
+        object.__setattr__(self, "_condition", cond)
+        if not isinstance(self.model, str):
+            raise ValueError(f"a case's model is a model name, got {type(self.model).__name__}")
+        gait_model = get_model(self.model)
+        object.__setattr__(self, "_model", gait_model)
+        if not isinstance(self.weight_set, str):
+            raise ValueError(f"a case's weight set is a name or 'hip,knee,dtau' text, got {self.weight_set!r}")
+        object.__setattr__(self, "true_weights", parse_weights(self.weight_set, cost_features(gait_model)))
+        if not any(f in cost_features(gait_model) for f in cond.features_for(gait_model)):
+            raise ValueError(f"condition {cond.name!r} offers model {self.model!r} none of its cost features")
+        object.__setattr__(self, "seed", check_seed(self.seed))
+        config = check_config(self.config)
+        object.__setattr__(self, "config", canonical_config(self.algorithm, config) if config else {})
+
+    @property
+    def condition_def(self) -> Condition:
+        """The condition itself."""
+        return self._condition  # type: ignore[attr-defined]
+
+    @property
+    def gait_model(self) -> GaitModel:
+        """The model itself."""
+        return self._model  # type: ignore[attr-defined]
+
+    @property
+    def features(self) -> tuple[str, ...]:
+        """The features the IOC may weigh in this case."""
+        return self.condition_def.features_for(self.gait_model)
+
+    def true_over_features(self) -> np.ndarray:
+        """The unit true weights over :attr:`features` (features outside the cost set get 0)."""
+        cost = cost_features(self.gait_model)
+        return unit(np.array([self.true_weights[cost.index(f)] if f in cost else 0.0 for f in self.features]))
+
+    def demo_request(self, params: GaitParams | None = None) -> DemoRequest:
+        """The demonstration this case observes (its multi-start seed is the case's seed)."""
+        params = self.gait_model.default_params if params is None else params
+        return DemoRequest(self.true_weights, params, self.condition_def.demo_task(), self.seed, self.model)
+
+    @property
+    def key(self) -> str:
+        """Relative path of the case's result file, without suffix."""
+        name = f"{_safe(self.weight_set)}__{self.condition}__seed{self.seed}"
+        if self.model != DEFAULT_MODEL:
+            name += f"__model-{self.model}"
+        if self.config:
+            name += f"__cfg{config_digest(self.config)}"
+        return f"{self.algorithm}/{name}"
+
+    def path(self, root: str | os.PathLike) -> Path:
+        return Path(root) / f"{self.key}.json"
+
+
+def config_digest(config: Mapping[str, Any]) -> str:
+    """Eight hex digits naming a canonical config (in file names and leaderboards)."""
+    return hashlib.sha256(json.dumps(dict(config), sort_keys=True).encode()).hexdigest()[:8]
+
+
+def _safe(text: str) -> str:
+    return "".join(c if c.isalnum() or c in "-._" else "_" for c in text)
 
 
 @dataclass(frozen=True)
@@ -60,6 +174,9 @@ class CaseResult:
             the demonstration could not be solved.
         demo_speed: speed of the demonstration.
         family: the algorithm's family (``cutting-plane``, ``inverse-kkt``, ``bilevel``, ...).
+        model: the gait model.
+        uncertainty: the algorithm's region for the weights (:class:`WeightRegion` as a
+            dict), None if it reports none.
     """
 
     algorithm: str
@@ -85,6 +202,8 @@ class CaseResult:
     demo_speed: float = 0.0
     found_trajectory_error: float | None = None
     family: str = ""
+    model: str = DEFAULT_MODEL
+    uncertainty: dict[str, Any] | None = None
     version: str = __version__
 
     @property
@@ -93,22 +212,6 @@ class CaseResult:
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, Any]) -> CaseResult:
-        """Inverse of :meth:`to_dict`, also after a JSON round trip (NaN stored as null)."""
-        fields = dict(data)
-        for key in ("weights", "true_weights"):
-            fields[key] = tuple(_float(v) for v in fields.get(key, ()))
-        for key in ("weight_error", "trajectory_error"):
-            fields[key] = _float(fields.get(key))
-        fields["features"] = tuple(fields.get("features", ()))
-        fields["history"] = tuple(fields.get("history", ()))
-        return cls(**fields)
-
-
-def _float(value: Any) -> float:
-    return float("nan") if value is None else float(value)
 
 
 def weight_set_label(weights: WeightSpec) -> str:
@@ -124,31 +227,53 @@ def run_case(
     condition: str | Condition = "ideal",
     seed: int = 0,
     config: Mapping[str, Any] | None = None,
-    params: WalkerParams | None = None,
+    params: GaitParams | None = None,
     demo: Demonstration | None = None,
+    *,
+    model: str | GaitModel = DEFAULT_MODEL,
 ) -> CaseResult:
     """Run and score one case.
 
     Args:
         algorithm: a registered algorithm name (see :func:`ioc_bench.algorithms`).
-        weights: the true weights: a set name or numbers over (hip, knee, dtau).
+        weights: the true weights: a set name of the model or numbers over its cost features.
         condition: a condition name (see ``CONDITIONS``) or a :class:`Condition`.
         seed: seed of the algorithm's random choices and of the observation noise.
         config: overrides of the algorithm's config fields.
-        params: the true walker model (default: SPEC section 1).
-        demo: the true demonstration, if already at hand (else from the cache, or solved).
+        params: the true model parameters (default: the model's, or ``demo``'s).
+        demo: the true demonstration, if already at hand (else from the cache, or solved);
+            it must be the case's (its weights, speed and model), or ``ValueError``.
+        model: the gait model, by name or object (keyword only; default the walker).
 
     Raises:
-        ValueError: bad input (unknown algorithm, condition or weight set, a bad config,
-            a seed that is not a non-negative integer), before any solve.
+        ValueError: bad input (unknown algorithm, model, condition or weight set, a bad
+            config, a seed that is not a non-negative integer, a demonstration of another
+            case), before any solve.
     """
-    cond = condition if isinstance(condition, Condition) else get_condition(condition)
-    true3 = parse_weights(weights)
-    seed = check_seed(seed)
-    algo = make_algorithm(algorithm, **check_config(config))
-    params = params or WalkerParams()
-    demo = demo or demonstration(true3, params, cond.demo_task(), seed=seed)
-    base = _identity(algorithm, weight_set_label(weights), true3, cond, seed) | {
+    name = model.name if isinstance(model, GaitModel) else model
+    if not isinstance(weights, str):
+        weights = weight_set_label(
+            parse_weights(weights, cost_features(get_model(name))) if _is_mapping(weights) else weights
+        )
+    spec = CaseSpec(algorithm, weights, condition, check_seed(seed), check_config(config), name)
+    make_algorithm(spec.algorithm, **spec.config)  # the name and every config field, before any work
+    return run_spec(spec, params, demo)
+
+
+def _is_mapping(value: Any) -> bool:
+    return isinstance(value, Mapping)
+
+
+def run_spec(spec: CaseSpec, params: GaitParams | None = None, demo: Demonstration | None = None) -> CaseResult:
+    """Run and score the case ``spec`` (see :func:`run_case`; the runner's entry point)."""
+    algo = make_algorithm(spec.algorithm, **spec.config)
+    params = _params(spec, params, demo)
+    request = spec.demo_request(params)
+    if demo is None:
+        demo = demonstration(request)
+    else:
+        _check_demo(spec, request, demo)
+    base = _identity(spec) | {
         "config": algo.config_dict(),
         "demo_features": dict(demo.features),
         "demo_speed": demo.task.speed,
@@ -156,8 +281,11 @@ def run_case(
     if not demo.solver.success:
         base["demo_features"] = {}  # a failed demonstration's features describe no optimum
         return _failed(base, f"the demonstration could not be solved ({demo.solver.status})")
-    observed = observe(demo.trajectory, cond.noise, np.random.default_rng([seed, NOISE_STREAM]), cond.torques)
-    problem = IOCProblem(observed, cond.features, cond.ioc_params(params), cond.ioc_task(), seed=seed)
+    cond = spec.condition_def
+    observed = observe(demo.trajectory, cond.noise, np.random.default_rng([spec.seed, NOISE_STREAM]), cond.torques)
+    problem = IOCProblem(
+        observed, spec.features, cond.ioc_params(params), cond.ioc_task(), seed=spec.seed, model=spec.gait_model
+    )
     t0 = time.perf_counter()
     try:
         result = algo.fit(problem)
@@ -165,27 +293,47 @@ def run_case(
         last = traceback.extract_tb(exc.__traceback__)[-1]
         return _failed(base, f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})", problem, t0)
     wall = time.perf_counter() - t0
-    problem_reason = _check_result(result, len(cond.features))
-    if problem_reason:
-        return _failed(base, problem_reason, problem, t0)
+    reason = check_result(result, problem.n_features)
+    if reason:
+        return _failed(base, reason, problem, t0)
     return _score(base, result, problem, wall)
 
 
-def failure(
-    algorithm: str,
-    weights: WeightSpec,
-    condition: str,
-    seed: int,
-    reason: str,
-    config: Mapping[str, Any] | None = None,
-) -> CaseResult:
+def _params(spec: CaseSpec, params: GaitParams | None, demo: Demonstration | None) -> GaitParams:
+    kind = type(spec.gait_model.default_params)
+    if params is not None and not isinstance(params, kind):
+        raise ValueError(f"params must be {kind.__name__} for model {spec.model!r}, got {type(params).__name__}")
+    if demo is not None and not isinstance(demo, Demonstration):
+        raise ValueError(f"demo must be a Demonstration, got {type(demo).__name__}")
+    if params is None:
+        return demo.params if demo is not None and isinstance(demo.params, kind) else spec.gait_model.default_params
+    return params
+
+
+def _check_demo(spec: CaseSpec, request: DemoRequest, demo: Demonstration) -> None:
+    """Refuse a demonstration that is not this case's (else it would be scored against the wrong truth)."""
+    if demo.model != spec.model:
+        raise ValueError(f"demo is of model {demo.model!r}, the case's model is {spec.model!r}")
+    cost = cost_features(spec.gait_model)
+    given = unit(np.array([demo.weights.get(f, 0.0) for f in cost]))
+    if not np.allclose(given, spec.true_weights, atol=1e-9) or any(
+        demo.weights.get(f, 0.0) for f in demo.weights if f not in cost
+    ):
+        raise ValueError(f"demo was made with weights {dict(demo.weights)}, not the case's {spec.weight_set!r}")
+    if not np.isclose(demo.task.speed, request.task.speed):
+        raise ValueError(
+            f"demo walks at speed {demo.task.speed}, the case's condition demonstrates {request.task.speed}"
+        )
+    if demo.params.to_dict() != request.params.to_dict():
+        raise ValueError("demo was made with other model parameters than the case's")
+
+
+def failure(spec: CaseSpec, reason: str, config: Mapping[str, Any] | None = None) -> CaseResult:
     """The record of a case that could not run (e.g. it timed out or its worker died).
 
     ``config`` is the algorithm's effective config, recorded as ``run_case`` records it.
     """
-    cond = get_condition(condition)
-    base = _identity(algorithm, weight_set_label(weights), parse_weights(weights), cond, seed)
-    return _failed(base | {"config": dict(config or {})}, reason)
+    return _failed(_identity(spec) | {"config": dict(config or {})}, reason)
 
 
 def _family(algorithm: str) -> str:
@@ -195,55 +343,37 @@ def _family(algorithm: str) -> str:
         return ""
 
 
-def _identity(algorithm: str, label: str, true3: np.ndarray, cond: Condition, seed: int) -> dict[str, Any]:
+def _identity(spec: CaseSpec) -> dict[str, Any]:
     """The fields naming a case and its truth, common to every record."""
     return {
-        "algorithm": algorithm,
-        "family": _family(algorithm),
-        "weight_set": label,
-        "condition": cond.name,
-        "seed": seed,
-        "features": cond.features,
-        "true_weights": tuple(unit(_over(true3, cond.features))),
+        "algorithm": spec.algorithm,
+        "family": _family(spec.algorithm),
+        "weight_set": spec.weight_set,
+        "condition": spec.condition,
+        "seed": spec.seed,
+        "model": spec.model,
+        "features": spec.features,
+        "true_weights": tuple(float(x) for x in spec.true_over_features()),
     }
-
-
-def _over(true3: np.ndarray, features: Sequence[str]) -> np.ndarray:
-    """True weights over ``features`` (features outside the cost set get 0)."""
-    return np.array([true3[COST_FEATURES.index(f)] if f in COST_FEATURES else 0.0 for f in features])
-
-
-def _check_result(result: Any, n: int) -> str:
-    if not isinstance(result, IOCResult):
-        return f"fit() returned {type(result).__name__}, not IOCResult"
-    w = np.asarray(result.weights, dtype=float).ravel()
-    if w.size != n:
-        return f"returned {w.size} weights for {n} features"
-    if not np.all(np.isfinite(w)):
-        return f"returned non-finite weights {w.tolist()} (status {result.status})"
-    if np.any(w < 0):
-        return f"returned negative weights {w.tolist()}"
-    if not np.any(w > 0):
-        return "returned all-zero weights"
-    return ""
 
 
 def regenerate(problem: IOCProblem, weights: np.ndarray) -> OracleSolution:
     """The optimal step for ``weights`` in the observation's basin (for scoring).
 
     Optima are local, and a plain solve from the observation may wander into another
-    basin; so a proximal solve anchored at the observation comes first and an unanchored
-    warm-started solve from it then converges to the nearby optimum. A fresh problem
-    keeps these solves out of the algorithm's oracle counts.
+    basin; so a proximal solve anchored at the observation comes first (from the projected
+    observation) and an unanchored warm-started solve from it then converges to the nearby
+    optimum. Run on the case's own problem after the algorithm, its solves are not counted
+    as the algorithm's (the case keeps the algorithm's counts from before scoring).
     """
-    scoring = IOCProblem(problem.observed, problem.features, problem.params, problem.task)
-    near = scoring.optimize(weights, proximal=SCORING_PROXIMAL)  # from the projected observation
-    final = scoring.optimize(weights, start=near) if near.success else near
-    return final if final.success else scoring.optimize(weights)
+    near = problem.optimize(weights, proximal=SCORING_PROXIMAL)  # from the projected observation
+    final = problem.optimize(weights, start=near) if near.success else near
+    return final if final.success else problem.optimize(weights)
 
 
 def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> CaseResult:
     est = unit(np.asarray(result.weights, dtype=float))
+    spent = problem.stats.copy()  # the algorithm's, before scoring adds its own solves
     regenerated = regenerate(problem, est)
     traj_err = trajectory_error(regenerated.trajectory, problem.observed) if regenerated.success else float("nan")
     return CaseResult(
@@ -254,20 +384,21 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem, wall: float) -> C
         weight_error=weight_error(est, np.array(base["true_weights"])),
         trajectory_error=traj_err,
         found_trajectory_error=_found(result),
-        n_solves=problem.stats.forward_solves,
+        n_solves=spent.forward_solves,
         wall_time=wall,
         history=tuple(h.to_dict() for h in result.history),
         chosen_iteration=result.chosen_iteration,
-        oracle=problem.stats.to_dict(),
+        oracle=spent.to_dict(),
         notes=dict(result.notes),
         scoring_status=regenerated.status,
+        uncertainty=None if result.uncertainty is None else result.uncertainty.to_dict(),
     )
 
 
 def _found(result: IOCResult) -> float | None:
     """The paper's trajectory error of the step the IOC found for its output (if it has one)."""
     i = result.chosen_iteration
-    if i is None or not 0 <= i < len(result.history):
+    if i is None:
         return None
     error = float(result.history[i].trajectory_error)
     return error if np.isfinite(error) else None
@@ -288,4 +419,4 @@ def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: floa
     )
 
 
-__all__ = ["WEIGHT_SETS", "CaseResult", "run_case"]
+__all__ = ["WEIGHT_SETS", "CaseResult", "CaseSpec", "run_case", "run_spec"]

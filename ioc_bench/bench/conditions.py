@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.model.params import WalkerParams
+from ioc_bench.features import ALL_FEATURES, COST_FEATURES, model_features
+from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.task import FAST_SPEED, NOMINAL_SPEED, Task
 
 
@@ -27,9 +27,12 @@ class Condition:
         description: one line for tables and help.
         demo_speed: speed of the demonstrated step.
         noise: observation noise, sigma as a fraction of each signal's span (0: none).
-        ioc_leg_mass: factor on the leg masses of the IOC's model (torso keeps total 1).
+        ioc_leg_mass: factor on the leg masses of the IOC's model (torso keeps total 1): the
+            thighs and shanks of the walker, the two legs of the compass walker (every
+            model's ``with_leg_mass_scale``).
         ioc_speed: factor on the speed of the IOC's task.
-        features: the features the IOC may weigh.
+        features: the features the IOC may weigh (those a model lacks are left out for it,
+            see :meth:`features_for`: the compass walker has no knee).
         torques: whether the joint torques are measured (else the observation holds
             positions and velocities only; algorithms get torques from their own model).
         axis: the robustness axis the condition lies on (``noise``, ``mass``, ``speed``;
@@ -54,8 +57,13 @@ class Condition:
     def ioc_task(self) -> Task:
         return Task(self.demo_speed * self.ioc_speed)
 
-    def ioc_params(self, truth: WalkerParams) -> WalkerParams:
+    def ioc_params(self, truth: GaitParams) -> GaitParams:
         return truth if self.ioc_leg_mass == 1.0 else truth.with_leg_mass_scale(self.ioc_leg_mass)
+
+    def features_for(self, model: GaitModel) -> tuple[str, ...]:
+        """The features the IOC may weigh for ``model``: this condition's, those it has."""
+        own = model_features(model)
+        return tuple(f for f in self.features if f in own)
 
 
 def _noise(percent: float) -> Condition:

@@ -11,12 +11,15 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ioc_bench.demo import Demonstration, DemonstrationFileError
-from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.task import Task
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
@@ -32,22 +35,68 @@ def cache_dir() -> Path:
     return Path(os.environ.get("IOC_BENCH_CACHE", Path.home() / ".cache" / "ioc-bench"))
 
 
-def demo_key(weights: np.ndarray, params: WalkerParams, task: Task, seed: int, starts: int, n_intervals: int) -> str:
-    payload = {
-        "weights": [round(float(w), 12) for w in weights],
-        "params": params.to_dict(),
-        "speed": task.speed,
-        "seed": seed,
-        "starts": starts,
-        "n_intervals": n_intervals,
-        "revision": SOLVER_REVISION,
-    }
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
+@dataclass(frozen=True, eq=False)
+class DemoRequest:
+    """What makes a demonstration: the one key for the cache and for sharing it between cases.
+
+    Attributes:
+        weights: unit weights over the model's features (its cost features for a case).
+        params: the model's parameters.
+        task: the task.
+        seed: the multi-start seed.
+        model: the gait model's name.
+        starts: multi-start size.
+        n_intervals: Hermite-Simpson intervals.
+    """
+
+    weights: np.ndarray
+    params: Any
+    task: Task
+    seed: int = DEMO_SEED
+    model: str = "walker"
+    starts: int = DEFAULT_STARTS
+    n_intervals: int = DEFAULT_INTERVALS
+
+    @cached_property
+    def key(self) -> str:
+        """A hash of every input and of :data:`SOLVER_REVISION` (the walker's keys as before models)."""
+        payload = {
+            "weights": [round(float(w), 12) for w in self.weights],
+            "params": self.params.to_dict(),
+            "speed": self.task.speed,
+            "seed": self.seed,
+            "starts": self.starts,
+            "n_intervals": self.n_intervals,
+            "revision": SOLVER_REVISION,
+        }
+        if self.task.step_length is not None:
+            payload["step_length"] = self.task.step_length
+        if self.model != "walker":
+            payload["model"] = self.model
+        return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, DemoRequest) and self.key == other.key
+
+    def __hash__(self) -> int:
+        return hash(self.key)
+
+    def solve(self, workers: int | None = None) -> Demonstration:
+        return optimize_gait(
+            self.weights,
+            self.params,
+            self.task,
+            starts=self.starts,
+            seed=self.seed,
+            n_intervals=self.n_intervals,
+            workers=workers,
+            model=get_model(self.model),
+        )
 
 
 def demonstration(
-    weights: np.ndarray,
-    params: WalkerParams | None = None,
+    weights: np.ndarray | DemoRequest,
+    params: Any = None,
     task: Task | None = None,
     seed: int = DEMO_SEED,
     starts: int = DEFAULT_STARTS,
@@ -55,15 +104,21 @@ def demonstration(
     workers: int | None = None,
     use_cache: bool = True,
 ) -> Demonstration:
-    """The optimal step for unit ``weights`` over (hip, knee, dtau), from the cache if there."""
-    params, task = params or WalkerParams(), task or Task()
-    path = cache_dir() / "demos" / f"{demo_key(weights, params, task, seed, starts, n_intervals)}.npz"
+    """The optimal step of a :class:`DemoRequest` (or, for the walker, of unit ``weights``
+    over (hip, knee, dtau) and the other arguments), from the cache if there."""
+    if isinstance(weights, DemoRequest):
+        request = weights
+    else:
+        from ioc_bench.model.params import WalkerParams
+
+        request = DemoRequest(weights, params or WalkerParams(), task or Task(), seed, "walker", starts, n_intervals)
+    path = cache_dir() / "demos" / f"{request.key}.npz"
     if use_cache and path.is_file():
         try:
             return Demonstration.load(path)
         except DemonstrationFileError:
             path.unlink(missing_ok=True)  # a stale or broken entry: solve again
-    demo = optimize_gait(weights, params, task, starts=starts, seed=seed, n_intervals=n_intervals, workers=workers)
+    demo = request.solve(workers)
     if use_cache:
         demo.save(path)
     return demo

@@ -22,8 +22,7 @@ from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from ioc_bench.bench.case import CaseResult, failure, run_case
-from ioc_bench.bench.results import CaseSpec
+from ioc_bench.bench.case import CaseResult, CaseSpec, failure, run_spec
 from ioc_bench.demo import Demonstration
 from ioc_bench.ioc.registry import make_algorithm
 
@@ -121,7 +120,7 @@ def execute(job: Job) -> CaseResult:
     """Run one case (in a worker); errors outside the algorithm become failed results too."""
     spec = job.spec
     try:
-        return run_case(spec.algorithm, spec.weight_set, spec.condition, spec.seed, spec.config, demo=job.demo)
+        return run_spec(spec, demo=job.demo)
     except Exception as exc:  # e.g. a plugin that is not installed on a Ray node
         return failure_of(spec, f"{type(exc).__name__}: {exc}")
 
@@ -132,4 +131,4 @@ def failure_of(spec: CaseSpec, reason: str) -> CaseResult:
         config = make_algorithm(spec.algorithm, **spec.config).config_dict()
     except ValueError:  # the algorithm is not available here: keep what identifies the case
         config = dict(spec.config)
-    return failure(spec.algorithm, spec.weight_set, spec.condition, spec.seed, reason, config)
+    return failure(spec, reason, config)

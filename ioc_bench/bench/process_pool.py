@@ -25,8 +25,9 @@ from threadpoolctl import threadpool_limits
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.executor import Job, execute, failure_of
+from ioc_bench.bench.results import parse_result
 from ioc_bench.checks import check_count
-from ioc_bench.trajopt.solver import get_solver
+from ioc_bench.trajopt.forward_problem import get_forward_problem
 
 
 @dataclass
@@ -52,7 +53,7 @@ class ProcessPool:
         """Nothing to check: this machine can always fork."""
 
     def start(self) -> int:
-        get_solver()  # built once here, inherited by every forked worker
+        get_forward_problem()  # built once here, inherited by every forked worker
         self._ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
         return self.workers
 
@@ -114,7 +115,7 @@ def _collect(worker: _Worker) -> CaseResult | None:
         worker.process.join()
         worker.conn.close()
         if data is not None:
-            return CaseResult.from_dict(data)
+            return parse_result(data)
         return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
     if not worker.process.is_alive():
         worker.process.join()

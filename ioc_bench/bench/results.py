@@ -1,6 +1,7 @@
 """Result files: one JSON per case, named by the case, written atomically.
 
-Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__cfg<hash>].json``.
+Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__model-<model>][__cfg<hash>].json``
+(the walker's cases name no model: their files are as before models).
 The config is part of a case's identity in its canonical form (the fields that differ
 from the algorithm's defaults, :func:`~ioc_bench.ioc.registry.canonical_config`): a
 config that only spells out defaults names the same file as no config at all.
@@ -20,24 +21,21 @@ so a field added to :class:`CaseSpec` is compared too). One file is one case.
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import math
 import os
 import re
 import typing
 from collections.abc import Iterator, Mapping
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import get_condition
-from ioc_bench.bench.scoring import unit
+from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
 from ioc_bench.checks import TypeMismatch, check_seed, coerce, load_json, one_line, shown
-from ioc_bench.features import COST_FEATURES, FEATURES
+from ioc_bench.features import FEATURES
 from ioc_bench.fileio import (
     PathError,
     atomic_write_json,
@@ -47,19 +45,13 @@ from ioc_bench.fileio import (
     remove_temporaries,
     to_jsonable,
 )
-from ioc_bench.ioc.registry import (
-    NAME_PATTERN,
-    canonical_config,
-    check_config,
-    check_name,
-    config_overrides,
-    make_algorithm,
-)
-from ioc_bench.weights import parse_weights
+from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``).
-RESULT_NAME = re.compile(r"[A-Za-z0-9._-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__cfg[0-9a-f]{8})?\.json")
+RESULT_NAME = re.compile(
+    r"[A-Za-z0-9._-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__cfg[0-9a-f]{8})?\.json"
+)
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
 #: Largest result file read (bytes); a case's record, history included, is some 100 KB.
@@ -76,55 +68,6 @@ TRUTH_TOLERANCE = 1e-9
 
 class ResultFileError(ValueError):
     """A result file (or results directory) is missing, unreadable or malformed."""
-
-
-@dataclass(frozen=True)
-class CaseSpec:
-    """What identifies a case (everything ``run_case`` needs), checked when made.
-
-    Raises ``ValueError`` (one line) for an unsafe algorithm name, an unknown weight set
-    or condition, a seed that is not a non-negative integer, or a bad config; ``config``
-    is stored in canonical form (which needs the algorithm to be registered, unless it
-    is empty).
-    """
-
-    algorithm: str
-    weight_set: str
-    condition: str
-    seed: int
-    config: Mapping[str, Any] = field(default_factory=dict)
-    #: (3,) unit true weights over (hip, knee, dtau), parsed once from ``weight_set``.
-    true_weights: np.ndarray = field(init=False, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        check_name(self.algorithm)
-        if not isinstance(self.weight_set, str):
-            raise ValueError(f"a case's weight set is a name or 'hip,knee,dtau' text, got {self.weight_set!r}")
-        object.__setattr__(self, "true_weights", parse_weights(self.weight_set))
-        get_condition(self.condition)
-        check_seed(self.seed)
-        config = check_config(self.config)
-        object.__setattr__(self, "config", canonical_config(self.algorithm, config) if config else {})
-
-    @property
-    def key(self) -> str:
-        """Relative path of the case's result file, without suffix."""
-        name = f"{_safe(self.weight_set)}__{self.condition}__seed{self.seed}"
-        if self.config:
-            name += f"__cfg{config_digest(self.config)}"
-        return f"{self.algorithm}/{name}"
-
-    def path(self, root: str | os.PathLike) -> Path:
-        return Path(root) / f"{self.key}.json"
-
-
-def config_digest(config: Mapping[str, Any]) -> str:
-    """Eight hex digits naming a canonical config (in file names and leaderboards)."""
-    return hashlib.sha256(json.dumps(dict(config), sort_keys=True).encode()).hexdigest()[:8]
-
-
-def _safe(text: str) -> str:
-    return "".join(c if c.isalnum() or c in "-._" else "_" for c in text)
 
 
 def result_config(result: CaseResult) -> dict[str, Any]:
@@ -297,25 +240,26 @@ def parse_result(data: Any) -> CaseResult:
 def check_result(result: CaseResult) -> None:
     """``ValueError`` naming the first value of ``result`` out of its range.
 
-    The identity is known (algorithm name, weight set, condition, seed); the features are
-    the condition's, known and distinct; the true weights are the weight set's over them;
-    estimated weights non-negative and not all zero (or NaN for a failed case); errors
-    and times non-negative (NaN only where a case may lack them), a sane solve count, a
-    chosen iteration inside the history, a short status.
+    The identity is a case (algorithm name, model, weight set, condition, seed: the
+    :class:`CaseSpec` they make, without config); the features are that case's, known and
+    distinct; the true weights are its truth over them; estimated weights non-negative and
+    not all zero (or NaN for a failed case); errors and times non-negative (NaN only where
+    a case may lack them), a sane solve count, a chosen iteration inside the history, a
+    short status.
     """
     check_name(result.algorithm)
-    truth = parse_weights(result.weight_set)  # a known set or numbers
-    condition = get_condition(result.condition)
     check_seed(result.seed)
     names = result.features
     if len(set(names)) != len(names) or not set(names) <= set(FEATURES):
         raise ValueError(f"features must be distinct known features, got {shown(list(names))}")
-    if tuple(names) != tuple(condition.features):
-        raise ValueError(f"features {list(names)} are not the {condition.name} condition's {list(condition.features)}")
+    identity = {f: getattr(result, f) for f in case_fields() if f != "config" and hasattr(result, f)}
+    case = CaseSpec(**identity)  # a known model, weight set and condition
+    if tuple(names) != tuple(case.features):
+        raise ValueError(f"features {list(names)} are not the {case.condition} condition's {list(case.features)}")
     for key in ("weights", "true_weights"):
         if len(getattr(result, key)) != len(names):
             raise ValueError(f"{key} has {len(getattr(result, key))} entries for {len(names)} features")
-    expected = unit(np.array([truth[COST_FEATURES.index(f)] if f in COST_FEATURES else 0.0 for f in names]))
+    expected = case.true_over_features()
     true = np.array(result.true_weights, dtype=float)
     if not np.all(np.isfinite(true)) or np.max(np.abs(true - expected)) > TRUTH_TOLERANCE:
         raise ValueError(

@@ -21,9 +21,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import get_condition
-from ioc_bench.bench.demos import demonstration
+from ioc_bench.bench.case import CaseResult, CaseSpec
+from ioc_bench.bench.demos import DemoRequest, demonstration
 from ioc_bench.bench.executor import (
     DEFAULT_TIME_LIMIT,
     Executor,
@@ -33,7 +32,6 @@ from ioc_bench.bench.executor import (
     schedule,
 )
 from ioc_bench.bench.results import (
-    CaseSpec,
     ResultFileError,
     check_not_held,
     results_directory,
@@ -103,13 +101,13 @@ class RunPlan:
         with results_directory(self.out):
             pending, retries = self.pending()
             if pending:
-                say(f"preparing {len(_demo_keys(pending))} demonstration(s)")
+                say(f"preparing {len({s.demo_request() for s in pending})} demonstration(s)")
                 demos = prepare_demonstrations(pending)
                 retried = f" ({retries} retried after failing before)" if retries else ""
                 for name in sorted({spec.algorithm for spec in pending}):
                     get_algorithm(name).prepare()  # shared set-up, built once before workers fork
                 say(f"running {len(pending)} case(s){retried}")
-                jobs = [Job(spec, demo_for(spec, demos)) for spec in pending]
+                jobs = [Job(spec, demos[spec.demo_request()]) for spec in pending]
                 schedule(self.executor, jobs, self.time_limit, finish)
         total = len(self.specs)
         return RunSummary(total, total - len(pending), len(pending), failed[0], time.perf_counter() - t0, retries)
@@ -167,25 +165,7 @@ def run_cases(
     return plan_run(specs, out, workers, time_limit, executor, address, keep_failed).run(on_case, on_stage)
 
 
-def _demo_keys(specs: Sequence[CaseSpec]) -> dict[tuple, CaseSpec]:
-    keys: dict[tuple, CaseSpec] = {}
-    for s in specs:
-        keys.setdefault(_demo_key(s), s)
-    return keys
-
-
-def _demo_key(spec: CaseSpec) -> tuple:
-    return (spec.weight_set, get_condition(spec.condition).demo_speed, spec.seed)
-
-
-def prepare_demonstrations(specs: Sequence[CaseSpec]) -> dict[tuple, Demonstration]:
+def prepare_demonstrations(specs: Sequence[CaseSpec]) -> dict[DemoRequest, Demonstration]:
     """The true demonstration of every case (its multi-start seed is the case's seed),
-    solved (all cores) or read from the cache."""
-    return {
-        key: demonstration(spec.true_weights, task=get_condition(spec.condition).demo_task(), seed=spec.seed)
-        for key, spec in _demo_keys(specs).items()
-    }
-
-
-def demo_for(spec: CaseSpec, demos: dict[tuple, Demonstration]) -> Demonstration:
-    return demos[_demo_key(spec)]
+    solved (all cores) or read from the cache, each once."""
+    return {request: demonstration(request) for request in dict.fromkeys(s.demo_request() for s in specs)}

@@ -9,25 +9,29 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ioc_bench.bench.case import DEFAULT_MODEL, CaseSpec
 from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, lookup, register
-from ioc_bench.bench.results import CaseSpec
 from ioc_bench.checks import check_seed
-from ioc_bench.weights import WEIGHT_SETS, parse_weights
+from ioc_bench.features import cost_features
+from ioc_bench.model.catalogue import COMPASS, get_model
+from ioc_bench.weights import WEIGHT_SETS, parse_weights, weight_sets
 
 
 @dataclass(frozen=True)
 class Suite:
-    """A grid of cases: every weight set under every condition, once per seed."""
+    """A grid of cases: every weight set under every condition, once per seed, on one model."""
 
     name: str
     description: str
     weight_sets: tuple[str, ...]
     conditions: tuple[str, ...]
     seeds: tuple[int, ...] = (0,)
+    model: str = DEFAULT_MODEL
 
     def __post_init__(self) -> None:
+        gait_model = get_model(self.model)
         for w in self.weight_sets:
-            parse_weights(w)
+            parse_weights(w, cost_features(gait_model))
         for c in self.conditions:
             get_condition(c)
         if not self.seeds:
@@ -35,11 +39,17 @@ class Suite:
         for seed in self.seeds:
             check_seed(seed, f"suite {self.name!r} seed")
 
-    def cases(self, algorithm: str, config: Mapping[str, Any] | None = None) -> list[CaseSpec]:
-        """The suite's cases for ``algorithm``, in a fixed order (``ValueError`` for a bad name or config)."""
+    def cases(
+        self, algorithm: str, config: Mapping[str, Any] | None = None, model: str | None = None
+    ) -> list[CaseSpec]:
+        """The suite's cases for ``algorithm``, in a fixed order, on the suite's model or ``model``
+        (``ValueError`` for a bad name, config, or a weight set the model lacks)."""
         cfg = dict(config or {})
         return [
-            CaseSpec(algorithm, w, c, s, cfg) for s in self.seeds for c in self.conditions for w in self.weight_sets
+            CaseSpec(algorithm, w, c, s, cfg, model or self.model)
+            for s in self.seeds
+            for c in self.conditions
+            for w in self.weight_sets
         ]
 
 
@@ -81,6 +91,20 @@ SUITES: dict[str, Suite] = {
             weight_sets=tuple(WEIGHT_SETS),
             conditions=PAPER_CONDITIONS,
             seeds=(0, 1, 2),
+        ),
+        Suite(
+            "compass-smoke",
+            "the compass walker (rigid legs, hip torques): a quick check, two weight sets, ideal and noisy",
+            weight_sets=("nominal", "penalize-hip"),
+            conditions=("ideal", "noise"),
+            model=COMPASS.name,
+        ),
+        Suite(
+            "compass-paper",
+            "the paper's study on the compass walker: its 3 weight sets x the paper's conditions, one seed",
+            weight_sets=tuple(weight_sets(cost_features(COMPASS))),
+            conditions=PAPER_CONDITIONS,
+            model=COMPASS.name,
         ),
         Suite(
             "robustness",

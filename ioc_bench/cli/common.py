@@ -151,14 +151,40 @@ def progress_bar(total: int, desc: str, enabled: bool = True):
 
 
 def weights_arg(text: str) -> str:
-    """Validate a ``--weights`` value (a set name or comma-separated numbers) early."""
+    """Validate a ``--weights`` value (a set name or comma-separated numbers) early: it must
+    name weights of some model (:func:`model_weights` checks them against the chosen one)."""
+    from ioc_bench.features import cost_features
+    from ioc_bench.model.catalogue import MODELS
+    from ioc_bench.weights import parse_weights
+
+    errors = []
+    for model in MODELS.values():
+        try:
+            parse_weights(text, cost_features(model))
+            return text
+        except ValueError as exc:
+            errors.append(str(exc))
+    raise argparse.ArgumentTypeError(errors[0])
+
+
+def add_model_arg(parser: argparse.ArgumentParser, default: str | None = "walker") -> None:
+    """--model: a gait model by name."""
+    from ioc_bench.model.catalogue import MODELS
+
+    where = "default walker" if default else "default: the suite's"
+    parser.add_argument("--model", choices=tuple(MODELS), default=default, help=f"gait model ({where})")
+
+
+def model_weights(text: str, model_name: str) -> None:
+    """Raise :class:`UsageError` if ``--weights`` names no weights of the chosen model."""
+    from ioc_bench.features import cost_features
+    from ioc_bench.model.catalogue import get_model
     from ioc_bench.weights import parse_weights
 
     try:
-        parse_weights(text)
+        parse_weights(text, cost_features(get_model(model_name)))
     except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-    return text
+        raise UsageError(f"--weights {text}: {exc} (model {model_name})") from None
 
 
 def solver_dict(report: Any) -> dict[str, Any]:

@@ -7,7 +7,9 @@ from pathlib import Path
 
 from ioc_bench.cli.common import (
     add_json_flag,
+    add_model_arg,
     add_multistart_args,
+    model_weights,
     output_file,
     path_arg,
     print_json,
@@ -21,6 +23,7 @@ from ioc_bench.task import NOMINAL_SPEED
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("gait", help="optimize the walking step for given weights", description=__doc__)
     p.add_argument("--weights", type=weights_arg, default="nominal", help="weight set name or numbers hip,knee,dtau")
+    add_model_arg(p)
     add_multistart_args(p, NOMINAL_SPEED)
     p.add_argument("--out", type=path_arg, default=Path("demo.npz"), help="demonstration file to write (.npz)")
     p.add_argument("--no-plot", action="store_true", help="skip the stick-figure plot")
@@ -29,16 +32,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ioc_bench.features import cost_features
+    from ioc_bench.model.catalogue import get_model
     from ioc_bench.optimize import optimize_gait
     from ioc_bench.task import Task
+    from ioc_bench.weights import parse_weights
 
+    model_weights(args.weights, args.model)
+    model = get_model(args.model)
     out = output_file(args.out if args.out.suffix == ".npz" else args.out.with_suffix(".npz"))
     if not args.no_plot:
         output_file(out.with_suffix(".png"), "--out (its plot)")
     with progress_bar(args.starts, "multi-start", enabled=not args.json) as bar:
         demo = optimize_gait(
-            args.weights,
+            parse_weights(args.weights, cost_features(model)),
             task=Task(args.speed),
+            model=model,
             starts=args.starts,
             seed=args.seed,
             workers=args.workers,

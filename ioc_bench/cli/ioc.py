@@ -1,4 +1,10 @@
-"""``ioc-bench ioc``: run one IOC case, print its score, write its result and convergence plot."""
+"""``ioc-bench ioc``: run one IOC case, print its score, write its result and convergence plot.
+
+The result is written to ``--out`` (default ``ioc_result.json`` in the current folder) and its
+plot beside it. Exit code 0 when the case ran, 1 when it failed (the algorithm raised or
+returned something the plugin contract does not allow: the record is written all the same,
+with the reason, the time and the solves spent), 2 on bad input (nothing is run).
+"""
 
 from __future__ import annotations
 
@@ -9,8 +15,10 @@ from pathlib import Path
 from ioc_bench.cli.common import (
     UsageError,
     add_json_flag,
+    add_model_arg,
     check_cache,
     json_object,
+    model_weights,
     output_file,
     path_arg,
     print_json,
@@ -25,10 +33,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--algorithm", default="log-barrier", help="registered algorithm (see `ioc-bench algorithms`)")
     p.add_argument("--weights", type=weights_arg, default="nominal", help="true weights: set name or hip,knee,dtau")
     p.add_argument("--condition", default="ideal", help="robustness condition (default ideal)")
+    add_model_arg(p)
     p.add_argument("--seed", type=seed_int, default=0, help="seed of the algorithm and of observation noise (>= 0)")
     config_help = "algorithm config overrides as JSON, e.g. '{\"n_random\": 5}'"
     p.add_argument("--config", type=json_object, default={}, help=config_help)
-    p.add_argument("--out", type=path_arg, default=Path("ioc_result.json"), help="result file (JSON); plot beside it")
+    p.add_argument(
+        "--out",
+        type=path_arg,
+        default=Path("ioc_result.json"),
+        help="result file (JSON; default ioc_result.json); plot beside it",
+    )
     add_json_flag(p)
     p.set_defaults(run=run)
 
@@ -40,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
     from ioc_bench.ioc.registry import make_algorithm
     from ioc_bench.viz.convergence import plot_convergence
 
+    model_weights(args.weights, args.model)
     with usage_errors():
         condition = get_condition(args.condition)
         make_algorithm(args.algorithm, **args.config)  # the name and every config field
@@ -50,14 +65,16 @@ def run(args: argparse.Namespace) -> int:
     check_cache()
     if not args.json:
         print(
-            f"running {args.algorithm} on {args.weights} weights, {condition.name} condition, seed {args.seed}",
+            f"running {args.algorithm} on {args.weights} weights of the {args.model}, {condition.name} condition, "
+            f"seed {args.seed}",
             file=sys.stderr,
         )
-    result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config)
+    result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config, model=args.model)
     atomic_write_json(args.out, result.to_dict())
     plot = plot_convergence(result, args.out.with_suffix(".png"))
     summary = {
         "algorithm": result.algorithm,
+        "model": result.model,
         "weight_set": result.weight_set,
         "condition": result.condition,
         "seed": result.seed,
@@ -71,6 +88,7 @@ def run(args: argparse.Namespace) -> int:
         "n_solves": result.n_solves,
         "wall_time": result.wall_time,
         "iterations": len(result.history),
+        "uncertainty": result.uncertainty,
         "result_file": str(args.out),
         "plot": str(plot),
     }

@@ -16,6 +16,7 @@ from pathlib import Path
 from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
 from ioc_bench.cli.common import (
     add_json_flag,
+    add_model_arg,
     check_cache,
     json_object,
     output_dir,
@@ -40,6 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--time-limit", type=positive_float, default=DEFAULT_TIME_LIMIT, help=time_help)
     p.add_argument("--keep-failed", action="store_true", help="do not retry cases whose stored result is a failure")
     p.add_argument("--list", action="store_true", help="list the suites (or the one --suite names) and exit")
+    add_model_arg(p, default=None)
     add_json_flag(p)
     p.set_defaults(run=run)
 
@@ -57,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         return _list_suites(suites, args.json)
     args.suite = args.suite or "smoke"
     with usage_errors():
-        specs = get_suite(args.suite).cases(args.algorithm, args.config)
+        specs = get_suite(args.suite).cases(args.algorithm, args.config, model=args.model)
     output_dir(args.out)
     check_cache()
     with usage_errors():
@@ -107,6 +109,7 @@ def _list_suites(suites: list, as_json: bool) -> int:
         {
             "name": suite.name,
             "cases": len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds),
+            "model": suite.model,
             "description": suite.description,
         }
         for suite in suites
@@ -115,5 +118,5 @@ def _list_suites(suites: list, as_json: bool) -> int:
         print_json({"suites": rows})
     else:
         for row in rows:
-            print(f"{row['name']:<14} {row['cases']:3d} cases  {row['description']}")
+            print(f"{row['name']:<14} {row['cases']:3d} cases  {row['model']:<8} {row['description']}")
     return 0

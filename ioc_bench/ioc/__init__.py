@@ -1,7 +1,8 @@
 """Inverse optimal control: the problem, the algorithm interface, the registry."""
 
-from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
-from ioc_bench.ioc.problem import IOCProblem, OracleSolution
+from ioc_bench.ioc.algorithm import API_VERSION, FAMILIES, IOCAlgorithm, IOCResult, IterationRecord, WeightRegion
+from ioc_bench.ioc.oracle import OracleSolution
+from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import (
     AlgorithmError,
     algorithms,
@@ -12,12 +13,15 @@ from ioc_bench.ioc.registry import (
 )
 
 __all__ = [
+    "API_VERSION",
+    "FAMILIES",
     "AlgorithmError",
     "IOCAlgorithm",
     "IOCProblem",
     "IOCResult",
     "IterationRecord",
     "OracleSolution",
+    "WeightRegion",
     "algorithms",
     "describe_algorithms",
     "get_algorithm",

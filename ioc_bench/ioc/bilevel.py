@@ -30,7 +30,8 @@ import numpy as np
 from scipy.optimize import minimize
 
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
-from ioc_bench.ioc.problem import IOCProblem, OracleSolution
+from ioc_bench.ioc.oracle import OracleSolution
+from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
 
 #: Tracking error given to L-BFGS-B for a candidate whose forward solve failed (it backtracks).

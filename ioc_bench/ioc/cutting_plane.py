@@ -34,7 +34,8 @@ from typing import Any, Protocol
 import numpy as np
 
 from ioc_bench.ioc.algorithm import IOCResult, IterationRecord
-from ioc_bench.ioc.problem import IOCProblem, OracleSolution
+from ioc_bench.ioc.oracle import OracleSolution
+from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.weight_fit import fit_weights, max_margin
 from ioc_bench.trajectory import Observation
 from ioc_bench.weights import normalize

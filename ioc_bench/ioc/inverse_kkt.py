@@ -32,6 +32,7 @@ from scipy.optimize import lsq_linear
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
+from ioc_bench.trajopt.active_set import ActiveSet
 
 
 @dataclass(frozen=True)
@@ -60,16 +61,6 @@ class InverseKKTConfig:
 
 
 @dataclass(frozen=True)
-class ActiveSides:
-    """Which side of each constraint and bound is active at a point (masks)."""
-
-    g_lower: np.ndarray
-    g_upper: np.ndarray
-    x_lower: np.ndarray
-    x_upper: np.ndarray
-
-
-@dataclass(frozen=True)
 class KKTFit:
     """The least-squares KKT solution at a point.
 
@@ -80,7 +71,7 @@ class KKTFit:
         penalty: the coefficient of the lock penalty's gradient.
         nu: (n_g,) constraint multipliers (0 for inactive inequalities).
         lam: (n_x,) bound multipliers (0 for inactive bounds).
-        active: the active sides used.
+        active: the active set used (``forward.active_set`` at ``active_tol``).
         residual: norm of the stationarity residual at the fit.
         relative_residual: ``residual`` over the norm of the weights' projected columns.
         success: the least-squares solver converged.
@@ -92,7 +83,7 @@ class KKTFit:
     penalty: float
     nu: np.ndarray
     lam: np.ndarray
-    active: ActiveSides
+    active: ActiveSet
     residual: float
     relative_residual: float
     success: bool
@@ -100,13 +91,9 @@ class KKTFit:
 
 def fit_kkt(view, x: np.ndarray, cfg: InverseKKTConfig) -> KKTFit:
     """The inverse-KKT least-squares fit at decision vector ``x`` of a :class:`ForwardView`."""
-    lbx, ubx = view.variable_bounds()
     lbg, ubg = view.constraint_bounds()
     g = view.constraints(x)
-    inequality = lbg < ubg
-    g_lo, g_hi = _sides(g, lbg, ubg, cfg.active_tol)
-    x_lo, x_hi = _sides(x, lbx, ubx, cfg.active_tol)
-    active = ActiveSides(g_lo & inequality, g_hi & inequality, x_lo, x_hi)
+    active = view.active_set(x, cfg.active_tol)
     jac_t = view.constraint_jacobian(x).T.tocsc()
     eye = sp.eye(x.size, format="csc")
     weights = view.objective_scale * view.feature_jacobian(x).T.toarray()
@@ -197,10 +184,3 @@ def _gram_factor(equality: sp.csr_matrix, regularisation: float):
     except RuntimeError:
         scale = max(float(abs(gram).max()), 1.0)
         return spla.splu((gram + regularisation * scale * sp.eye(gram.shape[0])).tocsc())
-
-
-def _sides(values: np.ndarray, lower: np.ndarray, upper: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
-    with np.errstate(invalid="ignore"):
-        at_lo = np.isfinite(lower) & (values - lower <= tol * (1 + np.abs(lower)))
-        at_hi = np.isfinite(upper) & (upper - values <= tol * (1 + np.abs(upper))) & ~at_lo
-    return at_lo, at_hi

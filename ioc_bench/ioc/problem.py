@@ -20,83 +20,58 @@ lock torques, impulses, solver data).
 
 from __future__ import annotations
 
-import time
-from collections import Counter
+import numbers
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
-from ioc_bench.features import check_names, evaluate
+from ioc_bench.features import check_names, evaluate, model_features
+from ioc_bench.ioc.forward_view import ForwardView
+from ioc_bench.ioc.oracle import OracleSolution, OracleStats
 from ioc_bench.metrics import trajectory_error
-from ioc_bench.model.gait_model import GaitParams
-from ioc_bench.model.walker import WALKER
+from ioc_bench.model.catalogue import model_of
+from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.task import Task
 from ioc_bench.trajectory import Observation, Trajectory
+from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
 from ioc_bench.trajopt.initial_guess import multistart_guesses
-from ioc_bench.trajopt.solver import FEASIBILITY_TOL, GaitSolver, SolveResult, StartPoint, get_solver
+from ioc_bench.trajopt.solution import FEASIBILITY_TOL, SolveResult, StartPoint
 from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE
 from ioc_bench.trajopt.tracking import signal_spans, tracking_error, tracking_terms
 from ioc_bench.weights import full_weights, normalize
+
+__all__ = ["IOCProblem", "OracleSolution", "OracleStats"]
 
 #: Projection objective scale. The span-normalised distance is ~1e-3 for 5 % noise and
 #: ~1e-2 for a 10 % speed mismatch; scaled up (1e1, 1e3) it outweighed the knee-lock
 #: penalty and projections ended with lock products above the tolerance.
 PROJECTION_SCALE = 1e4
-
-
-@dataclass(frozen=True, eq=False)
-class OracleSolution:
-    """A step returned by an oracle.
-
-    Attributes:
-        trajectory: the step (a full trajectory: pin forces, lock torques, impulses too).
-        features: (F,) its feature values, in the problem's feature order.
-        success: the solve converged to a feasible point.
-        status: the solver's status string.
-        objective: ``w . phi`` at the solution for ``optimize`` (0 for ``project``).
-        weights: (F,) the unit weights it was optimal for (zeros for a projection).
-    """
-
-    trajectory: Trajectory
-    features: np.ndarray
-    success: bool
-    status: str
-    objective: float
-    weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    _solve: SolveResult | None = field(default=None, repr=False)
-
-
-@dataclass
-class OracleStats:
-    """Calls and seconds spent per oracle."""
-
-    calls: Counter = field(default_factory=Counter)
-    seconds: Counter = field(default_factory=Counter)
-
-    @property
-    def forward_solves(self) -> int:
-        """Trajectory optimizations of any kind (``optimize`` and ``project``)."""
-        return self.calls["optimize"] + self.calls["project"]
-
-    def to_dict(self) -> dict:
-        return {"calls": dict(self.calls), "seconds": dict(self.seconds), "forward_solves": self.forward_solves}
-
-    def timed(self, name: str) -> _Timer:
-        """A context manager counting one call of ``name`` and its time."""
-        return _Timer(self, name)
+#: Most starts one ``optimize`` call may ask for (each is a counted forward solve).
+MAX_STARTS = 100
 
 
 class IOCProblem:
     """One IOC task: recover weights over :attr:`features` from :attr:`observed`.
 
+    To experiment outside ``run_case``, build one from a demonstration (the benchmark's
+    own measurement model is :func:`ioc_bench.bench.observe.observe`)::
+
+        demo = ioc_bench.optimize_gait("penalize-knee", starts=1)
+        problem = IOCProblem(demo.trajectory, ("hip", "knee", "dtau"), demo.params, demo.task)
+
     Args:
-        observed: the observed step (the IOC's only view of the demonstration).
-        features: names of the features the IOC may weigh.
-        params: the walker model the IOC believes in.
+        observed: the observed step (the IOC's only view of the demonstration; a full
+            :class:`Trajectory` is reduced to what is measured of it).
+        features: names of the features the IOC may weigh (the model's).
+        params: the model parameters the IOC believes in.
         task: the task the IOC believes in.
         seed: seed for the algorithm's random choices (use :meth:`rng`).
+        model: the gait model (keyword only; default: the one whose parameters ``params``
+            are, e.g. the walker for :class:`~ioc_bench.model.params.WalkerParams`).
+
+    Raises:
+        ValueError: an argument of the wrong type or shape, a feature the model lacks.
     """
 
     def __init__(
@@ -106,20 +81,32 @@ class IOCProblem:
         params: GaitParams,
         task: Task,
         seed: int = 0,
-        solver: GaitSolver | None = None,
+        *,
+        model: GaitModel | None = None,
     ):
+        if not isinstance(observed, Observation):
+            raise ValueError(f"observed must be an Observation or a Trajectory, got {type(observed).__name__}")
         if isinstance(observed, Trajectory):
             observed = observed.observed()  # never hand an algorithm the solver's hidden variables
+        if not isinstance(task, Task):
+            raise ValueError(f"task must be a Task, got {type(task).__name__}")
+        if not isinstance(seed, numbers.Integral) or isinstance(seed, bool) or seed < 0:
+            raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+        self.model = model or model_of(params)
+        if not isinstance(params, type(self.model.default_params)):
+            raise ValueError(f"params must be {type(self.model.default_params).__name__} for model {self.model.name!r}")
         self.features = check_names(tuple(features))
-        self.params = params
-        self.task = task
-        self.seed = seed
-        self._solver = solver or get_solver((observed.n_knots - 1) // 2, WALKER)
-        if observed.n_knots != self._solver.nlp.n_knots:
+        missing = [f for f in self.features if f not in model_features(self.model)]
+        if missing:
+            raise ValueError(f"model {self.model.name!r} has no feature(s) {missing}")
+        self.params, self.task, self.seed = params, task, int(seed)
+        self._forward = get_forward_problem(self.model, (observed.n_knots - 1) // 2)
+        n_act = len(self._forward.actuators)
+        if observed.q.shape[1:] != (len(self._forward.step.seg_names), 3):
             raise ValueError(
-                f"observed step has {observed.n_knots} knots, the IOC solver uses {self._solver.nlp.n_knots}"
+                f"observed positions have shape {observed.q.shape[1:]} per knot, model {self.model.name!r} "
+                f"has {len(self._forward.step.seg_names)} segments"
             )
-        n_act = len(self._solver.nlp.actuators)
         if observed.tau is not None and observed.tau.shape[1] != n_act:
             raise ValueError(f"observed torques have {observed.tau.shape[1]} columns, the model has {n_act}")
         self.observed = observed
@@ -141,11 +128,9 @@ class IOCProblem:
         return np.random.default_rng([self.seed, stream])
 
     @cached_property
-    def forward(self):
+    def forward(self) -> ForwardView:
         """The differentiable view of the forward problem (built on first use)."""
-        from ioc_bench.ioc.forward_view import ForwardView
-
-        return ForwardView(self)
+        return ForwardView(self._forward, self.features, self.params, self.task, self.observed, self._spans, self.stats)
 
     # -- oracles ------------------------------------------------------------------------
     def optimize(
@@ -173,23 +158,25 @@ class IOCProblem:
                 paper's multi-start, seeded from the problem's seed) and keep the cheapest
                 feasible result. Every solve counts as a forward solve.
         """
-        if not isinstance(starts, int) or starts < 1:
-            raise ValueError(f"starts must be an integer >= 1, got {starts!r}")
+        if not isinstance(starts, numbers.Integral) or isinstance(starts, bool) or not 1 <= starts <= MAX_STARTS:
+            raise ValueError(f"starts must be an integer in 1..{MAX_STARTS}, got {starts!r}")
+        if not (isinstance(proximal, numbers.Real) and np.isfinite(proximal) and proximal >= 0):
+            raise ValueError(f"proximal must be a finite number >= 0, got {proximal!r}")
         unit_w = normalize(weights)
         if unit_w.size != self.n_features:
             raise ValueError(f"expected {self.n_features} weights ({', '.join(self.features)}), got {unit_w.size}")
-        w = full_weights(unit_w, self.features, self._solver.nlp.features)
-        ref = track = None
+        w = full_weights(unit_w, self.features, self._forward.features)
+        tracking = None
         if proximal > 0:
             if anchor is None:
                 anchor = self.observed if self.observed.tau is not None else self.reference().trajectory
             cost = float(unit_w @ self.features_of(anchor))
-            ref, track = tracking_terms(anchor, OBJECTIVE_SCALE * proximal * cost, self._spans)
-        points = [self._start(start), *self._guesses(starts - 1)]
+            tracking = tracking_terms(anchor, OBJECTIVE_SCALE * proximal * cost, self._spans)
+        points = [self._start(start), *self._guesses(int(starts) - 1)]
         results = []
         for point in points:
             with self.stats.timed("optimize"):
-                results.append(self._solver.solve(point, self.params, self.task, w, ref=ref, track=track))
+                results.append(self._forward.solve(SolveRequest(point, self.params, self.task, w, tracking)))
         feasible = [r for r in results if r.report.success]
         best = min(feasible, key=lambda r: r.report.objective) if feasible else results[0]
         return self._wrap(best, unit_w)
@@ -197,11 +184,13 @@ class IOCProblem:
     def project(self, target: Observation) -> OracleSolution:
         """The feasible step closest to ``target`` in its measured positions, velocities and
         torques (each signal's squared error divided by its span in the observed step)."""
-        ref, track = tracking_terms(target, PROJECTION_SCALE, self._spans)
-        zeros = np.zeros(len(self._solver.nlp.features))
-        start = StartPoint(self._solver.guess_vector(target, self.params))
+        if not isinstance(target, Observation) or target.n_knots != self.observed.n_knots:
+            raise ValueError(f"target must be an Observation of {self.observed.n_knots} knots, like problem.observed")
+        tracking = tracking_terms(target, PROJECTION_SCALE, self._spans)
+        zeros = np.zeros(len(self._forward.features))
+        start = StartPoint(self._forward.guess_vector(target, self.params))
         with self.stats.timed("project"):
-            result = self._solver.solve(start, self.params, self.task, zeros, ref, track)
+            result = self._forward.solve(SolveRequest(start, self.params, self.task, zeros, tracking))
         return self._wrap(result, np.zeros(self.n_features))
 
     @cached_property
@@ -217,12 +206,16 @@ class IOCProblem:
         if not isinstance(trajectory, Trajectory):
             raise TypeError("is_feasible needs a full Trajectory (an observation lacks forces): project it first")
         with self.stats.timed("feasibility"):
-            return self._solver.violation_of(trajectory, self.params, self.task) <= tol
+            return self._forward.violation_of(trajectory, self.params, self.task) <= tol
 
     def features_of(self, step: Observation) -> np.ndarray:
         """(F,) feature values of a step (an observation with torques, or a trajectory)."""
+        if not isinstance(step, Observation) or step.tau is None:
+            raise ValueError(
+                "features_of needs a step with torques (an oracle solution's trajectory, or an observation)"
+            )
         with self.stats.timed("features"):
-            values = evaluate(step, self.params, self.features)
+            values = evaluate(step, self.params, self.features, self.model)
         return np.array([values[f] for f in self.features])
 
     # -- metrics and helpers for algorithms ---------------------------------------------
@@ -238,7 +231,7 @@ class IOCProblem:
 
     def perturb(self, rng: np.random.Generator, size: float) -> Observation:
         """The observed step plus Gaussian noise of ``size`` times each measured signal's span."""
-        sig = self.observed.signals(len(self._solver.nlp.actuators))
+        sig = self.observed.signals(len(self._forward.actuators))
         noisy = sig + rng.normal(0.0, 1.0, size=sig.shape) * size * self._spans
         return self.observed.with_signals(noisy)
 
@@ -246,20 +239,19 @@ class IOCProblem:
     def _start(self, start: OracleSolution | Trajectory | None) -> StartPoint:
         if start is None:
             start = self.reference()
-        if isinstance(start, OracleSolution) and start._solve is not None:
-            s = start._solve
-            return StartPoint(s.x, s.lam_x, s.lam_g)
+        if isinstance(start, OracleSolution) and start.point is not None:
+            return start.point
         traj = start.trajectory if isinstance(start, OracleSolution) else start
         if not isinstance(traj, Trajectory):
-            raise TypeError("start must be an OracleSolution, a Trajectory or None; project an observation first")
-        return StartPoint(self._solver.decision_vector(traj))
+            raise ValueError("start must be an OracleSolution, a Trajectory or None; project an observation first")
+        return StartPoint(self._forward.vector(traj))
 
     def _guesses(self, n: int) -> list[StartPoint]:
         if n <= 0:
             return []
-        nlp = self._solver.nlp
-        tried = multistart_guesses(WALKER, self.params, self.task.speed, None, nlp.n_knots, n, self.seed)
-        return [StartPoint(nlp.layout.pack(blocks)) for _, blocks in tried]
+        fwd = self._forward
+        tried = multistart_guesses(self.model, self.params, self.task.speed, None, fwd.n_knots, n, self.seed)
+        return [StartPoint(fwd.step.layout.pack(blocks)) for _, blocks in tried]
 
     def _wrap(self, result: SolveResult, weights: np.ndarray) -> OracleSolution:
         return OracleSolution(
@@ -269,17 +261,6 @@ class IOCProblem:
             status=result.report.status,
             objective=result.report.objective,
             weights=weights,
-            _solve=result,
+            point=result.point,
+            report=result.report,
         )
-
-
-class _Timer:
-    def __init__(self, stats: OracleStats, name: str):
-        self.stats, self.name = stats, name
-
-    def __enter__(self) -> None:
-        self.t0 = time.perf_counter()
-
-    def __exit__(self, *exc: object) -> None:
-        self.stats.calls[self.name] += 1
-        self.stats.seconds[self.name] += time.perf_counter() - self.t0

@@ -26,7 +26,7 @@ from typing import Any
 
 from ioc_bench.checks import TypeMismatch, coerce
 from ioc_bench.fileio import to_jsonable
-from ioc_bench.ioc.algorithm import IOCAlgorithm
+from ioc_bench.ioc.algorithm import FAMILIES, IOCAlgorithm
 
 ENTRY_POINT_GROUP = "ioc_bench.algorithms"
 #: What an algorithm name may look like (it names a folder of result files).
@@ -74,6 +74,10 @@ def _add(name: str, cls: Any, origin: str) -> None:
     check_name(name)
     if not (isinstance(cls, type) and issubclass(cls, IOCAlgorithm)):
         raise AlgorithmError(f"algorithm {name!r} from {origin} is not an IOCAlgorithm subclass")
+    if cls.family not in FAMILIES:
+        raise AlgorithmError(
+            f"algorithm {name!r} from {origin}: unknown family {cls.family!r}; valid: {', '.join(FAMILIES)}"
+        )
     existing = _REGISTRY.get(name)
     if existing is not None and existing is not cls:
         raise AlgorithmError(

@@ -42,25 +42,12 @@ from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, KKTFit, fit_kkt
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
-from ioc_bench.trajopt.solver import get_solver
+from ioc_bench.trajopt import ipopt
+from ioc_bench.trajopt.forward_problem import get_forward_problem
 from ioc_bench.trajopt.step_problem import SymbolicStep
 
-_OPTIONS = {
-    "ipopt.print_level": 0,
-    "ipopt.sb": "yes",
-    "print_time": False,
-    "ipopt.tol": 1e-8,
-    "ipopt.bound_relax_factor": 0.0,
-    "ipopt.mumps_scaling": 0,
-    "ipopt.mumps_permuting_scaling": 0,
-    "ipopt.mumps_pivtol": 1e-8,
-    # The start is nearly optimal: keep IPOPT there (no barrier push away from the bounds).
-    "ipopt.mu_init": 1e-6,
-    "ipopt.warm_start_init_point": "yes",
-    "ipopt.warm_start_bound_push": 1e-9,
-    "ipopt.warm_start_bound_frac": 1e-9,
-    "ipopt.warm_start_mult_bound_push": 1e-9,
-}
+#: The start is nearly optimal: keep IPOPT there (no barrier push away from the bounds).
+_OPTIONS = ipopt.options(ipopt.MUMPS, ipopt.WARM_START, tol=1e-8)
 #: Scale of the tracking error in the objective (it is ~1e-12 at an exact observation).
 TRACKING_SCALE = 1e4
 #: Weight of the proximal term on the multipliers.
@@ -124,7 +111,7 @@ class SingleLevel(IOCAlgorithm):
     @classmethod
     def prepare(cls) -> None:
         """Build the single-level NLP of the benchmark's forward problem (about 10 s)."""
-        _built(get_solver().nlp.symbolic, MAX_ITERATIONS)
+        _built(get_forward_problem().step.symbolic, MAX_ITERATIONS)
 
     def fit(self, problem: IOCProblem) -> IOCResult:
         cfg: SingleLevelConfig = self.config
@@ -149,7 +136,7 @@ class SingleLevel(IOCAlgorithm):
             "start_weights": [float(v) for v in start.weights],
             "start_relative_residual": start.relative_residual,
         }
-        if status not in ("Solve_Succeeded", "Solved_To_Acceptable_Level") or not np.any(w > 0):
+        if not ipopt.converged(status) or not np.any(w > 0):
             return IOCResult(np.full(problem.n_features, np.nan), f"failed: single-level NLP {status}", notes=notes)
         return IOCResult(w / np.linalg.norm(w), "converged", notes=notes)
 

@@ -20,16 +20,11 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-_OPTIONS = {
-    "ipopt.print_level": 0,
-    "ipopt.sb": "yes",
-    "print_time": False,
-    "ipopt.tol": 1e-10,
-    "ipopt.constr_viol_tol": 1e-10,
-    "ipopt.max_iter": 500,
-    # Keep iterates inside the bounds: the centre objective takes logs of them.
-    "ipopt.bound_relax_factor": 0.0,
-}
+from ioc_bench.trajopt import ipopt
+
+#: Tight tolerances (the separations are small); no bound relaxation (BASE): the centre
+#: objective takes logs of the iterates.
+_OPTIONS = ipopt.options(tol=1e-10, constr_viol_tol=1e-10, max_iter=500)
 
 
 @dataclass(frozen=True)
@@ -89,7 +84,7 @@ def fit_weights(
     status = str(solver.stats()["return_status"])
     weights = np.asarray(sol["x"], dtype=float).ravel()[:f]
     margin = float(np.min(unit @ weights, initial=np.inf))
-    ok = status in ("Solve_Succeeded", "Solved_To_Acceptable_Level") and margin >= -relax - 1e-8
+    ok = ipopt.converged(status) and margin >= -relax - 1e-8
     if not ok:
         weights = w0
     return WeightFit(weights=weights / np.linalg.norm(weights), success=ok, status=status, min_margin=margin)

@@ -15,3 +15,12 @@ def get_model(name: str) -> GaitModel:
         return MODELS[name]
     except KeyError:
         raise ValueError(f"unknown gait model {name!r}; valid: {', '.join(MODELS)}") from None
+
+
+def model_of(params: object) -> GaitModel:
+    """The model whose parameters ``params`` are (by type); ``ValueError`` if none is."""
+    for model in MODELS.values():
+        if type(params) is type(model.default_params):
+            return model
+    kinds = ", ".join(f"{type(m.default_params).__name__} ({m.name})" for m in MODELS.values())
+    raise ValueError(f"params must be the parameters of a gait model ({kinds}), got {type(params).__name__}")

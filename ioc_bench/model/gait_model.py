@@ -38,6 +38,10 @@ class GaitParams(Protocol):
 
     def to_dict(self) -> dict[str, Any]: ...
 
+    def with_leg_mass_scale(self, factor: float) -> Any:
+        """The same model with every leg segment's mass scaled, the torso keeping the total."""
+        ...
+
 
 @dataclass(frozen=True)
 class GaitRoles:

@@ -163,6 +163,19 @@ class CompassParams:
         """No joint has a lock; the value is unused."""
         return 0.0
 
+    def with_leg_mass_scale(self, factor: float) -> CompassParams:
+        """A variant with both legs' mass (and inertia) scaled by ``factor``, the torso giving
+        up the added mass (as :meth:`WalkerParams.with_leg_mass_scale` does for thighs and shanks)."""
+        added = (factor - 1.0) * 2 * self.leg.mass
+        torso_mass = self.torso.mass - added
+        if torso_mass <= 0:
+            raise ValueError(f"leg mass factor {factor} leaves no mass for the torso")
+        return replace(
+            self,
+            leg=replace(self.leg, mass=self.leg.mass * factor, inertia=self.leg.inertia * factor),
+            torso=replace(self.torso, mass=torso_mass, inertia=self.torso.inertia * torso_mass / self.torso.mass),
+        )
+
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 

@@ -18,7 +18,7 @@ bounds, and a tiny ``d`` keeping the system solvable where active constraints ar
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
 from functools import cached_property
 
 import casadi as ca
@@ -26,9 +26,14 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ioc_bench.trajopt.solver import GaitSolver
+from ioc_bench.trajopt.active_set import ActiveSet
+from ioc_bench.trajopt.step_problem import StepProblem
 
-#: A constraint or bound within this (absolute, plus relative to its bound) is active.
+#: (lbx, ubx, lbg, ubg) of one solve.
+Bounds = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+#: A constraint or bound within this (absolute, plus relative to its bound) is active at an
+#: optimum (IPOPT's solutions hold their active constraints to ~1e-9).
 ACTIVE_TOL = 1e-7
 #: Regularisation of the KKT system's lower-right block (dependent active constraints).
 KKT_REGULARISATION = 1e-10
@@ -40,68 +45,61 @@ def to_sparse(m: ca.DM) -> sp.csc_matrix:
     return sp.csc_matrix((np.asarray(m.nonzeros(), dtype=float), (rows, cols)), shape=m.shape)
 
 
-@dataclass(frozen=True)
-class ActiveSet:
-    """Which constraints hold with equality at a point.
+class StepDerivatives:
+    """Numeric derivatives of a step NLP (``ForwardProblem.derivatives``).
 
-    Attributes:
-        constraints: (n_g,) mask of equality constraints and active inequalities.
-        bounds: (n_x,) mask of variables at a bound (fixed variables included).
+    Args:
+        step: the transcribed NLP.
+        oracle: the built IPOPT instance's own functions by name (``nlp_jac_g``, ``nlp_hess_l``),
+            so the derivatives are exactly the ones the solver uses.
     """
 
-    constraints: np.ndarray
-    bounds: np.ndarray
-
-
-class StepDerivatives:
-    """Numeric derivatives of a :class:`GaitSolver`'s step problem."""
-
-    def __init__(self, solver: GaitSolver):
-        self.solver = solver
-        self.nlp = solver.nlp
+    def __init__(self, step: StepProblem, oracle: Callable[[str], ca.Function]):
+        self.step = step
+        self._oracle = oracle
 
     # -- functions, built on first use ------------------------------------------------------
     @cached_property
     def _jac_g(self) -> ca.Function:
-        return self.solver.oracle("nlp_jac_g")
+        return self._oracle("nlp_jac_g")
 
     @cached_property
     def _hess_l(self) -> ca.Function:
-        return self.solver.oracle("nlp_hess_l")
+        return self._oracle("nlp_hess_l")
 
     @cached_property
     def _symbols(self) -> tuple[ca.SX, ca.SX]:
-        return self.nlp.nlp["x"], self.nlp.nlp["p"]
+        return self.step.casadi_nlp["x"], self.step.casadi_nlp["p"]
 
     @cached_property
     def _jac_phi(self) -> ca.Function:
         x, p = self._symbols
-        return ca.Function("jac_phi", [x, p], [ca.jacobian(self.nlp.features_fn(x, p), x)])
+        return ca.Function("jac_phi", [x, p], [ca.jacobian(self.step.features_fn(x, p), x)])
 
     @cached_property
     def _grad_reg(self) -> ca.Function:
         x, p = self._symbols
-        return ca.Function("grad_reg", [x, p], [ca.gradient(self.nlp.regularizer_fn(x, p), x)])
+        return ca.Function("grad_reg", [x, p], [ca.gradient(self.step.regularizer_fn(x, p), x)])
 
     @cached_property
     def _basis_jac(self) -> ca.Function:
         x, p = self._symbols
-        return ca.Function("basis_jac", [x, p], [ca.jacobian(self.nlp.weight_basis, x)])
+        return ca.Function("basis_jac", [x, p], [ca.jacobian(self.step.weight_basis, x)])
 
     def _hess_phi(self, index: int) -> ca.Function:
         x, p = self._symbols
-        h, _ = ca.hessian(self.nlp.features_fn(x, p)[index], x)
+        h, _ = ca.hessian(self.step.features_fn(x, p)[index], x)
         return ca.Function(f"hess_phi_{index}", [x, p], [h])
 
     # -- values ------------------------------------------------------------------------------
     def constraints(self, x: np.ndarray, p: np.ndarray) -> np.ndarray:
-        return np.asarray(self.nlp.g_fn(x, p), dtype=float).ravel()
+        return np.asarray(self.step.g_fn(x, p), dtype=float).ravel()
 
     def constraint_jacobian(self, x: np.ndarray, p: np.ndarray) -> sp.csc_matrix:
         return to_sparse(self._jac_g(x, p)[1])
 
     def features(self, x: np.ndarray, p: np.ndarray) -> np.ndarray:
-        return np.asarray(self.nlp.features_fn(x, p), dtype=float).ravel()
+        return np.asarray(self.step.features_fn(x, p), dtype=float).ravel()
 
     def feature_jacobian(self, x: np.ndarray, p: np.ndarray) -> sp.csc_matrix:
         return to_sparse(self._jac_phi(x, p))
@@ -110,7 +108,7 @@ class StepDerivatives:
         return to_sparse(self._hess_phi(index)(x, p))
 
     def regularizer(self, x: np.ndarray, p: np.ndarray) -> float:
-        return float(self.nlp.regularizer_fn(x, p))
+        return float(self.step.regularizer_fn(x, p))
 
     def regularizer_gradient(self, x: np.ndarray, p: np.ndarray) -> np.ndarray:
         return np.asarray(self._grad_reg(x, p), dtype=float).ravel()
@@ -125,12 +123,9 @@ class StepDerivatives:
         return (upper + upper.T - sp.diags(upper.diagonal())).tocsc()
 
     # -- active set and sensitivity -------------------------------------------------------------
-    def active_set(
-        self, x: np.ndarray, g: np.ndarray, bounds: tuple[np.ndarray, ...], tol: float = ACTIVE_TOL
-    ) -> ActiveSet:
+    def active_set(self, x: np.ndarray, p: np.ndarray, bounds: Bounds, tol: float = ACTIVE_TOL) -> ActiveSet:
         """Active constraints and bounds at ``x`` (``bounds`` = lbx, ubx, lbg, ubg)."""
-        lbx, ubx, lbg, ubg = bounds
-        return ActiveSet(_at_bound(g, lbg, ubg, tol), _at_bound(x, lbx, ubx, tol))
+        return ActiveSet.at(x, self.constraints(x, p), bounds, tol)
 
     def sensitivity(self, x: np.ndarray, p: np.ndarray, lam_g: np.ndarray, active: ActiveSet) -> np.ndarray:
         """(n_x, F) derivative of the optimum by the weights, active set held fixed."""
@@ -140,12 +135,7 @@ class StepDerivatives:
         a = sp.vstack([jac, fixed]).tocsc()
         m = a.shape[0]
         kkt = sp.bmat([[h, a.T], [a, -KKT_REGULARISATION * sp.eye(m)]], format="csc")
-        rhs = np.vstack([-self.weight_jacobian(x, p).toarray(), np.zeros((m, self.nlp.params.blocks["weights"][1][0]))])
+        rhs = np.vstack(
+            [-self.weight_jacobian(x, p).toarray(), np.zeros((m, self.step.params.blocks["weights"][1][0]))]
+        )
         return spla.splu(kkt).solve(rhs)[: x.size]
-
-
-def _at_bound(values: np.ndarray, lower: np.ndarray, upper: np.ndarray, tol: float) -> np.ndarray:
-    with np.errstate(invalid="ignore"):
-        at_lower = np.isfinite(lower) & (values - lower <= tol * (1 + np.abs(lower)))
-        at_upper = np.isfinite(upper) & (upper - values <= tol * (1 + np.abs(upper)))
-    return at_lower | at_upper

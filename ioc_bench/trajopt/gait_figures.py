@@ -1,6 +1,6 @@
 """The figures a biomechanist reads off a step: length, duration, cadence, clearance, torques.
 
-Also which inequalities the optimum leans on (:meth:`GaitSolver.active_bounds`), split into
+Also which inequalities the optimum leans on (:meth:`ForwardProblem.active_bounds`), split into
 physical ones (ground contact, joint and torque limits), idle passive elements, and
 artificial ones (the transcription's own limits), which a credible walking step must not
 touch (``docs/gait_regime.md``).
@@ -17,7 +17,7 @@ import numpy as np
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.task import Task
 from ioc_bench.trajectory import Trajectory
-from ioc_bench.trajopt.solver import GaitSolver
+from ioc_bench.trajopt.forward_problem import ForwardProblem
 from ioc_bench.trajopt.step_problem import StepRules, classify_active
 
 #: Leg length of the human-sized walker the figures are also given for (SPEC section 2), m.
@@ -77,7 +77,7 @@ def gait_figures(
     task: Task,
     active: dict[str, int] | None = None,
 ) -> GaitFigures:
-    """The gait figures of a step; ``active`` as :meth:`GaitSolver.active_bounds` returns it."""
+    """The gait figures of a step; ``active`` as :meth:`ForwardProblem.active_bounds` returns it."""
     linkage = model.linkage(params)
     foot = trajectory.point(linkage, *model.roles.swing_foot)
     t = trajectory.n_knots
@@ -97,7 +97,7 @@ def gait_figures(
 
 
 def solved_gait_figures(
-    solver: GaitSolver, x: np.ndarray, trajectory: Trajectory, params: GaitParams, task: Task, rules: StepRules
+    forward: ForwardProblem, x: np.ndarray, trajectory: Trajectory, params: GaitParams, task: Task, rules: StepRules
 ) -> GaitFigures:
     """:func:`gait_figures` of a solve, with its active bounds."""
-    return gait_figures(solver.model, params, trajectory, task, solver.active_bounds(x, params, task, rules))
+    return gait_figures(forward.model, params, trajectory, task, forward.active_bounds(x, params, task, rules))

@@ -17,15 +17,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Iterator
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from ioc_bench.model.gait_model import GaitParams
-from ioc_bench.task import Task
-from ioc_bench.trajopt.solver import GaitSolver, SolveResult, StartPoint
-from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE, StepRules
+from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest
+from ioc_bench.trajopt.solution import SolveResult
+from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE
 from ioc_bench.trajopt.tracking import signal_spans, tracking_terms
 
 #: Proximal weights tried from each candidate, strongest (smallest move) first.
@@ -76,67 +75,68 @@ class LocalMinimumCheck:
 
 
 def verify_local_minimum(
-    solver: GaitSolver,
-    result: SolveResult,
-    params: GaitParams,
-    task: Task,
-    weights: Any,
-    rules: StepRules = StepRules(),
+    forward: ForwardProblem, result: SolveResult, request: SolveRequest
 ) -> tuple[SolveResult, LocalMinimumCheck]:
-    """Check (and polish) a feasible solve; returns the final solve and the check."""
+    """Check (and polish) a feasible solve of ``request``; returns the final solve and the check."""
     start_cost = result.report.objective
     current = result
     for rounds in range(MAX_ROUNDS + 1):
-        cheaper, largest = _descend(solver, current, params, task, weights, rules)
+        cheaper, largest = _descend(forward, current, request)
         if cheaper is None:
-            cheaper, probed = _probe(solver, current, params, task, weights, rules, rounds)
+            cheaper, probed = _probe(forward, current, request, rounds)
             largest = max(largest, probed)
         if cheaper is None:  # no descent found a cheaper step (unverified if none succeeded)
             polished_by = (start_cost - current.report.objective) / abs(start_cost)
             return current, LocalMinimumCheck(math.isfinite(largest), largest, rounds, polished_by)
         if rounds == MAX_ROUNDS:
             break
-        again = solver.solve(StartPoint(cheaper.x, cheaper.lam_x, cheaper.lam_g), params, task, weights, rules=rules)
+        again = forward.solve(replace(request, start=cheaper.point, tracking=None))
         current = again if again.report.success and again.report.objective < cheaper.report.objective else cheaper
     polished_by = (start_cost - current.report.objective) / abs(start_cost)
     return current, LocalMinimumCheck(False, largest, MAX_ROUNDS, polished_by)
 
 
-def _probe(solver, current: SolveResult, params, task, weights, rules, seed: int) -> tuple[SolveResult | None, float]:
+def _probe(
+    forward: ForwardProblem, current: SolveResult, request: SolveRequest, seed: int
+) -> tuple[SolveResult | None, float]:
     """The first probe cheaper than ``current``: a proximal step under perturbed weights,
-    re-solved under ``weights``; and the largest relative decrease seen."""
-    spans = signal_spans(current.trajectory)
-    warm = StartPoint(current.x, current.lam_x, current.lam_g)
+    re-solved under the request's weights; and the largest relative decrease seen."""
     cost = current.report.objective
-    ref, track = tracking_terms(current.trajectory, OBJECTIVE_SCALE * PROBE_PROXIMAL * abs(cost), spans)
+    tracking = tracking_terms(current.trajectory, OBJECTIVE_SCALE * PROBE_PROXIMAL * abs(cost), _spans(current))
     rng = np.random.default_rng([seed, 101])
-    w = np.asarray(weights, dtype=float)
+    w = np.asarray(request.weights, dtype=float)
 
     def probes() -> Iterator[SolveResult]:
         for _ in range(PROBES):
             other = w * np.exp(PROBE_SPREAD * rng.normal(size=w.shape))
-            away = solver.solve(warm, params, task, other / np.linalg.norm(other), ref=ref, track=track, rules=rules)
+            away_request = replace(
+                request, start=current.point, weights=other / np.linalg.norm(other), tracking=tracking
+            )
+            away = forward.solve(away_request)
             if not away.report.success:
                 yield away
                 continue
-            yield solver.solve(StartPoint(away.x, away.lam_x, away.lam_g), params, task, weights, rules=rules)
+            yield forward.solve(replace(request, start=away.point, tracking=None))
 
     return _first_cheaper(cost, probes())
 
 
-def _descend(solver, current: SolveResult, params, task, weights, rules) -> tuple[SolveResult | None, float]:
+def _descend(forward: ForwardProblem, current: SolveResult, request: SolveRequest) -> tuple[SolveResult | None, float]:
     """The first proximal step (down the ladder) cheaper than ``current``, and the largest
     relative decrease seen."""
     cost = current.report.objective
-    spans = signal_spans(current.trajectory)
-    warm = StartPoint(current.x, current.lam_x, current.lam_g)
+    spans = _spans(current)
 
     def steps() -> Iterator[SolveResult]:
         for lam in PROXIMAL_LADDER:
-            ref, track = tracking_terms(current.trajectory, OBJECTIVE_SCALE * lam * abs(cost), spans)
-            yield solver.solve(warm, params, task, weights, ref=ref, track=track, rules=rules)
+            tracking = tracking_terms(current.trajectory, OBJECTIVE_SCALE * lam * abs(cost), spans)
+            yield forward.solve(replace(request, start=current.point, tracking=tracking))
 
     return _first_cheaper(cost, steps())
+
+
+def _spans(result: SolveResult) -> np.ndarray:
+    return signal_spans(result.trajectory)
 
 
 def _first_cheaper(cost: float, solves: Iterable[SolveResult]) -> tuple[SolveResult | None, float]:

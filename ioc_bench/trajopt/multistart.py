@@ -15,14 +15,9 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
 from typing import Any
 
-import numpy as np
-
 from ioc_bench.model.catalogue import get_model
-from ioc_bench.model.gait_model import GaitModel, GaitParams
-from ioc_bench.model.walker import WALKER
-from ioc_bench.task import Task
-from ioc_bench.trajopt.solver import SolveResult, SolverReport, StartPoint, get_solver
-from ioc_bench.trajopt.step_problem import StepRules
+from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, get_forward_problem
+from ioc_bench.trajopt.solution import SolveResult, SolverReport
 
 #: Two feasible optima are the same when their costs agree to this relative tolerance.
 SAME_OPTIMUM_RTOL = 1e-5
@@ -76,25 +71,28 @@ class MultiStartSummary:
         )
 
 
-def _solve_one(args: tuple) -> SolveResult:
-    start, params, task, weights, n_intervals, model, rules = args
-    return get_solver(n_intervals, get_model(model)).solve(start, params, task, weights, rules=rules)
+@dataclass(frozen=True, eq=False)
+class _Job:
+    """One start's solve, as sent to a worker (the forward problem by name: workers have it built)."""
+
+    model: str
+    n_intervals: int
+    request: SolveRequest
+
+
+def _solve_one(job: _Job) -> SolveResult:
+    return get_forward_problem(get_model(job.model), job.n_intervals).solve(job.request)
 
 
 def solve_starts(
-    starts: Sequence[StartPoint],
-    params: GaitParams,
-    task: Task,
-    weights: np.ndarray,
-    n_intervals: int,
+    forward: ForwardProblem,
+    requests: Sequence[SolveRequest],
     workers: int | None = None,
     on_done: Callable[[int, SolveResult], None] | None = None,
-    rules: StepRules = StepRules(),
-    model: GaitModel = WALKER,
 ) -> list[SolveResult]:
-    """Solve from every start, in ``workers`` processes (default: all cores)."""
-    workers = min(len(starts), workers or os.cpu_count() or 1)
-    jobs = [(s, params, task, weights, n_intervals, model.name, rules) for s in starts]
+    """Solve every request, in ``workers`` processes (default: all cores)."""
+    workers = min(len(requests), workers or os.cpu_count() or 1)
+    jobs = [_Job(forward.model.name, forward.n_intervals, r) for r in requests]
     results: list[SolveResult | None] = [None] * len(jobs)
     if workers <= 1:
         for i, job in enumerate(jobs):
@@ -102,7 +100,7 @@ def solve_starts(
             if on_done:
                 on_done(i, results[i])
         return results  # type: ignore[return-value]
-    get_solver(n_intervals, model)  # build once here; forked workers inherit it
+    get_forward_problem(forward.model, forward.n_intervals)  # build once here; forked workers inherit it
     with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
         futures = {pool.submit(_solve_one, job): i for i, job in enumerate(jobs)}
         for fut in as_completed(futures):

@@ -73,7 +73,7 @@ LOCK_SLACK = 1e-8
 
 #: Active inequalities that are physics: the ground's contact (a foot unloading, the friction
 #: cone's edge, the swing foot touching the ground), joint limits (a knee at full extension
-#: or at its flexion limit) and torque limits. Keys as :meth:`GaitSolver.active_bounds` gives.
+#: or at its flexion limit) and torque limits. Keys as :meth:`ForwardProblem.active_bounds` gives.
 PHYSICAL_BOUNDS = frozenset(
     {
         "friction",
@@ -171,7 +171,7 @@ class StepProblem:
         layout: named blocks of the decision vector.
         params: named blocks of the parameter vector.
         constraints: named constraint groups and their default bounds.
-        nlp: the CasADi NLP dict ``{x, p, f, g}``.
+        casadi_nlp: the CasADi NLP dict ``{x, p, f, g}``.
         features_fn: ``(x, p) -> phi``.
         effort_fn: ``(x, p) -> w . phi`` (times the duration under ``cost="per-step"``).
         regularizer_fn: ``(x, p) -> rho * lock complementarity`` (the weight-independent
@@ -198,7 +198,7 @@ class StepProblem:
     @cached_property
     def symbolic(self) -> SymbolicStep:
         """The NLP's symbolic pieces, for methods that build their own NLP around it."""
-        x, p = self.nlp["x"], self.nlp["p"]
+        x, p = self.casadi_nlp["x"], self.casadi_nlp["p"]
         return SymbolicStep(
             x=x,
             p=p,
@@ -279,7 +279,7 @@ class StepProblem:
         regularizer = prm["lock_penalty"][0] * ca.sum1(lock_products)
         objective = prm["scale"][0] * effort + tracking + regularizer
         self.constraints = g
-        self.nlp = {"x": x, "p": par, "f": objective, "g": g.vector()}
+        self.casadi_nlp = {"x": x, "p": par, "f": objective, "g": g.vector()}
         self.features_fn = ca.Function("features", [x, par], [phi])
         self.weight_basis = prm["scale"][0] * per_weight  # d(objective)/d(weights), symbolic
         self.effort_fn = ca.Function("effort", [x, par], [effort])

@@ -9,6 +9,7 @@ parameter and the per-entry weights as its ``track`` parameter.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
@@ -33,12 +34,25 @@ def signal_spans(step: Signals, n_actuators: int | None = None) -> np.ndarray:
     return span
 
 
-def tracking_terms(target: Signals, strength: float, spans: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Reference and weights of ``strength * D(x, target)`` (missing signals weigh 0)."""
+@dataclass(frozen=True, eq=False)
+class Tracking:
+    """A tracking term ``sum(weight * (signals - ref)^2)`` over a step's (T, n) signals.
+
+    Attributes:
+        ref: (T, n) the target's signals (0 where not measured).
+        weight: (T, n) each entry's weight (0 where not measured).
+    """
+
+    ref: np.ndarray
+    weight: np.ndarray
+
+
+def tracking_terms(target: Signals, strength: float, spans: np.ndarray) -> Tracking:
+    """The tracking term ``strength * D(x, target)`` (missing signals weigh 0)."""
     ref = target.signals(_actuators(spans, target))
     measured = np.isfinite(ref)
     weights = np.where(measured, strength / (spans**2 * max(int(measured.sum()), 1)), 0.0)
-    return np.where(measured, ref, 0.0), weights
+    return Tracking(np.where(measured, ref, 0.0), weights)
 
 
 def tracking_error(step: Signals, target: Signals, spans: np.ndarray) -> float:

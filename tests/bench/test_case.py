@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import ioc_bench
+from ioc_bench.bench.results import parse_result
 from ioc_bench.ioc import registry
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 
@@ -65,9 +66,7 @@ def test_oracle_counts_and_perfect_answer_scores_zero(register, ideal_nominal_ca
 def test_result_round_trips_through_json(register, ideal_nominal_cached):
     import json
 
-    from ioc_bench.bench.case import CaseResult
-
     name = register("fixed-json", lambda self, p: IOCResult(np.array([1.0, 2.0, 3.0])))
     result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
-    again = CaseResult.from_dict(json.loads(json.dumps(result.to_dict())))
+    again = parse_result(json.loads(json.dumps(result.to_dict())))
     assert again == result

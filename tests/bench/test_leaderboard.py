@@ -11,12 +11,12 @@ import pytest
 
 from ioc_bench.bench.case import failure
 from ioc_bench.bench.leaderboard import demo_spread, markdown, penalised_is_largest, summarise, write_leaderboard
-from ioc_bench.bench.results import CaseSpec, load_results, write_result
+from ioc_bench.bench.results import CaseSpec, load_results, parse_result, write_result
 from ioc_bench.cli import main
 
 
 def _result(algorithm, weight_set, condition, seed, weights, error):
-    base = failure(algorithm, weight_set, condition, seed, "placeholder")
+    base = failure(CaseSpec(algorithm, weight_set, condition, seed), "placeholder")
     fields = base.to_dict() | {
         "status": "converged",
         "reason": "",
@@ -26,7 +26,7 @@ def _result(algorithm, weight_set, condition, seed, weights, error):
         "n_solves": 7,
         "wall_time": 1.5,
     }
-    return type(base).from_dict(fields)
+    return parse_result(fields)
 
 
 @pytest.fixture
@@ -37,7 +37,9 @@ def results_dir(tmp_path):
             for cond in ("ideal", "noise"):
                 spec = CaseSpec("algo", ws, cond, seed)
                 write_result(tmp_path, spec, _result("algo", ws, cond, seed, w, float(rng.uniform(0.01, 0.05))))
-    write_result(tmp_path, CaseSpec("algo", "nominal", "mass", 0), failure("algo", "nominal", "mass", 0, "boom"))
+    write_result(
+        tmp_path, CaseSpec("algo", "nominal", "mass", 0), failure(CaseSpec("algo", "nominal", "mass", 0), "boom")
+    )
     return tmp_path
 
 

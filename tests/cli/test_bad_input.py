@@ -442,17 +442,11 @@ def no_work(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("expensive work started before the input was checked")
 
-    import importlib
-
-    import ioc_bench.optimize as optimize
-    import ioc_bench.trajopt.solver as solver
-
-    for module in ("ioc_bench.bench.process_pool", "ioc_bench.bench.ray_executor"):
-        importlib.import_module(module)  # they bind get_solver when imported: import them before it is replaced
+    from ioc_bench.trajopt.forward_problem import ForwardProblem
 
     monkeypatch.setattr(runner, "prepare_demonstrations", forbidden)
-    monkeypatch.setattr(solver, "get_solver", forbidden)
-    monkeypatch.setattr(optimize, "get_solver", forbidden)
+    monkeypatch.setattr(ForwardProblem, "solve", forbidden)  # every solve, whoever asks
+    monkeypatch.setattr(ForwardProblem, "__init__", forbidden)  # and every build
 
 
 #: Longest stderr line a refusal may print (cut in the middle beyond this).

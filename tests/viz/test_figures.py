@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.results import CaseSpec, write_result
+from ioc_bench.bench.results import CaseSpec, parse_result, write_result
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 from ioc_bench.viz import figures
 from ioc_bench.weights import WEIGHT_SETS, parse_weights
@@ -171,7 +171,7 @@ def test_table1_skips_absent_sets_and_says_when_empty():
 
 def test_table1_ignores_failed_demonstrations_but_not_failed_algorithms():
     broken = make_case("alpha", "nominal", "ideal", status="failed", demos=BAD_DEMOS)
-    broken = CaseResult.from_dict(broken.to_dict() | {"demo_features": {}})  # as run_case records it
+    broken = parse_result(broken.to_dict() | {"demo_features": {}})  # as run_case records it
     algo_failed = make_case("beta", "penalize-hip", "ideal", status="failed")
     md = figures.table1_markdown([broken, algo_failed])
     assert "nominal |" not in md and "penalize-hip" in md

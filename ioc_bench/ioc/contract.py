@@ -1,0 +1,157 @@
+"""The boundary between an algorithm and the benchmark: everything ``fit`` returns is checked.
+
+:func:`check_result` reads an algorithm's answer field by field (the weights, every history
+record, the chosen index, the notes, the uncertainty region) and returns a one-line reason
+for the first thing that breaks the contract of :mod:`ioc_bench.ioc.algorithm`, or an empty
+string. The case pipeline records a case with such a reason as failed, whatever entry point
+ran it; nothing downstream (scoring, result files, plots) ever sees an unchecked value.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import numbers
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
+
+#: Longest status text kept (a status is a word or ``failed: <reason>``).
+MAX_STATUS = 500
+#: Largest ``notes`` or ``extra`` a result may carry, as JSON text.
+MAX_NOTES_BYTES = 1_000_000
+
+
+class ContractError(ValueError):
+    """An algorithm returned something the plugin contract does not allow."""
+
+
+def check_result(result: Any, n_features: int) -> str:
+    """The first way ``result`` breaks the contract for a problem of ``n_features``, or ``""``."""
+    try:
+        _result(result, n_features)
+    except ContractError as exc:
+        return str(exc)
+    return ""
+
+
+def _result(result: Any, n: int) -> None:
+    if not isinstance(result, IOCResult):
+        raise ContractError(f"fit() returned {type(result).__name__}, not IOCResult")
+    w = _numbers(result.weights, n, "weights")
+    if not np.all(np.isfinite(w)):
+        raise ContractError(f"returned non-finite weights {_short(w.tolist())} (status {_short(result.status)})")
+    if np.any(w < 0):
+        raise ContractError(f"returned negative weights {_short(w.tolist())}")
+    if not np.any(w > 0):
+        raise ContractError("returned all-zero weights")
+    _text(result.status, "status")
+    if not isinstance(result.history, (tuple, list)):
+        raise ContractError(f"history must be a tuple of IterationRecord, got {type(result.history).__name__}")
+    for i, record in enumerate(result.history):
+        _record(record, n, f"history[{i}]")
+    chosen = result.chosen_iteration
+    if chosen is not None and (not _integer(chosen) or not 0 <= chosen < len(result.history)):
+        raise ContractError(f"chosen_iteration {_short(chosen)} is not an index into the {len(result.history)} records")
+    _json(result.notes, "notes")
+    if result.uncertainty is not None:
+        _region(result.uncertainty, n)
+
+
+def _record(record: Any, n: int, where: str) -> None:
+    if not isinstance(record, IterationRecord):
+        raise ContractError(f"{where} is a {type(record).__name__}, not an IterationRecord")
+    w = _numbers(record.weights, n, f"{where}.weights")
+    if not np.all(np.isfinite(w)):
+        raise ContractError(f"{where}.weights has non-finite entries")
+    for name in ("tracking_error", "trajectory_error"):
+        value = getattr(record, name)
+        if not _real(value) or (math.isfinite(value) and value < 0):
+            raise ContractError(f"{where}.{name} must be a number >= 0 (NaN if unknown), got {_short(value)}")
+    _text(record.solve_status, f"{where}.solve_status", empty=True)
+    _json(record.extra, f"{where}.extra")
+
+
+def _region(region: Any, n: int) -> None:
+    if not isinstance(region, WeightRegion):
+        raise ContractError(f"uncertainty must be a WeightRegion or None, got {type(region).__name__}")
+    lower = _numbers(region.lower, n, "uncertainty.lower")
+    upper = _numbers(region.upper, n, "uncertainty.upper")
+    if not (np.all(np.isfinite(lower)) and np.all(np.isfinite(upper))):
+        raise ContractError("uncertainty bounds must be finite")
+    if np.any(lower > upper):
+        raise ContractError("uncertainty has a lower bound above its upper bound")
+    if not (_real(region.level) and 0 < region.level < 1):
+        raise ContractError(f"uncertainty.level must be in (0, 1), got {_short(region.level)}")
+    if region.covariance is not None:
+        try:
+            cov = np.asarray(region.covariance, dtype=float)
+        except (TypeError, ValueError):
+            raise ContractError("uncertainty.covariance must be an F x F matrix of numbers") from None
+        if cov.shape != (n, n) or not np.all(np.isfinite(cov)) or not np.allclose(cov, cov.T, atol=1e-12):
+            raise ContractError(f"uncertainty.covariance must be a finite symmetric {n} x {n} matrix")
+    _text(region.method, "uncertainty.method", empty=True)
+
+
+def _numbers(value: Any, n: int, name: str) -> np.ndarray:
+    items = value.tolist() if isinstance(value, np.ndarray) else value
+    if isinstance(items, (str, bytes)) or not isinstance(items, (list, tuple)):
+        raise ContractError(f"{name} must be a sequence of {n} numbers, got {type(value).__name__}")
+    if not all(_real(x) for x in items):
+        raise ContractError(f"{name} must hold numbers, got {_short(items)}")
+    arr = np.asarray(items, dtype=float)
+    if arr.shape != (n,):
+        raise ContractError(
+            f"returned {arr.size} {name.split('.')[-1]} for {n} features"
+            if arr.ndim == 1
+            else f"{name} must have shape ({n},), got {arr.shape}"
+        )
+    return arr
+
+
+def _real(value: Any) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def _integer(value: Any) -> bool:
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _text(value: Any, name: str, empty: bool = False) -> None:
+    if not isinstance(value, str) or (not empty and not value) or len(value) > MAX_STATUS:
+        raise ContractError(
+            f"{name} must be a{'' if empty else ' non-empty'} text of at most {MAX_STATUS} characters, "
+            f"got {_short(value)}"
+        )
+
+
+def _json(value: Any, name: str) -> None:
+    if not isinstance(value, Mapping):
+        raise ContractError(f"{name} must be a dict, got {type(value).__name__}")
+    try:
+        text = json.dumps(_plain(value), allow_nan=True)
+    except (TypeError, ValueError, RecursionError) as exc:
+        raise ContractError(f"{name} must hold JSON values (numbers, text, lists, dicts): {_short(str(exc))}") from None
+    if len(text) > MAX_NOTES_BYTES:
+        raise ContractError(f"{name} is {len(text)} bytes as JSON, more than {MAX_NOTES_BYTES}")
+
+
+def _plain(value: Any) -> Any:
+    """numpy values as Python ones (the result file's JSON writer converts them alike)."""
+    if isinstance(value, Mapping):
+        if not all(isinstance(k, str) for k in value):
+            raise TypeError("keys must be text")
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()
+    return value
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."

@@ -1,0 +1,1 @@
+"""Plugins written to each earlier shape of the ioc-bench plugin API (see pyproject.toml)."""
