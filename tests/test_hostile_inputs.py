@@ -97,7 +97,7 @@ def spoilt_fields() -> st.SearchStrategy[tuple[str, object, str]]:
         st.tuples(st.just("weight_error"), _NEGATIVE | st.floats(1.0001, 1e300), st.just("weight_error must be")),
         st.tuples(st.just("trajectory_error"), _NEGATIVE, st.just("trajectory_error must be")),
         st.tuples(st.just("demo_speed"), _NEGATIVE, st.just("demo_speed must be")),
-        st.tuples(st.just("status"), st.text(min_size=65) | st.just("a\nb") | st.just(""), st.just("status must be")),
+        st.tuples(st.just("status"), st.text(min_size=501) | st.just("a\nb") | st.just(""), st.just("status must be")),
         st.tuples(st.just("features"), st.sampled_from([["hip", "hip", "dtau"], ["hip", "x", "y"]]), st.just("feat")),
         st.tuples(st.just("true_weights"), st.just([0.0, 0.0, 0.0]), st.just("true_weights")),
         st.tuples(st.just("chosen_iteration"), st.integers(3, 10**6) | st.integers(max_value=-1), st.just("chosen_")),

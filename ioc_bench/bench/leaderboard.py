@@ -266,7 +266,8 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
     for label, r in labelled:
         w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else _cell_text(r.reason)
         lines.append(
-            f"| {label} | {r.weight_set} | {r.condition} | {r.seed} | {r.status} | {w} ({', '.join(r.features)}) "
+            f"| {label} | {r.weight_set} | {r.condition} | {r.seed} | {_cell_text(r.status)} | "
+            f"{w} ({', '.join(r.features)}) "
             f"| {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {r.wall_time:.1f} | {r.n_solves} |"
         )
     return lines

@@ -45,6 +45,7 @@ from ioc_bench.fileio import (
     remove_temporaries,
     to_jsonable,
 )
+from ioc_bench.ioc.contract import MAX_STATUS
 from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
@@ -60,8 +61,9 @@ MAX_RESULT_BYTES = 32 * 2**20
 MAX_SOLVES = 10**9
 #: Longest time (seconds) a case may record: some 30 years.
 MAX_WALL_TIME = 1e9
-#: What a status may look like (``converged``, ``max_iterations``, ``infeasible``, ``failed``).
-STATUS_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,63}")
+#: What a status may look like: the text the plugin contract allows (``converged``,
+#: ``failed: <reason>``, at most ``MAX_STATUS`` characters), on one line.
+STATUS_PATTERN = re.compile(rf"[^\x00-\x1f\x7f]{{1,{MAX_STATUS}}}")
 #: How far a file's true weights may be from its weight set's (unit-norm) truth.
 TRUTH_TOLERANCE = 1e-9
 
@@ -269,7 +271,7 @@ def check_result(result: CaseResult) -> None:
     _check_estimate(result)
     _check_numbers(result)
     if not STATUS_PATTERN.fullmatch(result.status):
-        raise ValueError(f"status must be a short word like 'converged', got {shown(result.status)}")
+        raise ValueError(f"status must be one line of 1 to {MAX_STATUS} characters, got {shown(result.status)}")
     unknown = set(result.demo_features) - set(FEATURES)
     if unknown or not all(np.isfinite(v) for v in result.demo_features.values()):
         raise ValueError(f"demo_features must map known features to finite numbers, got {shown(result.demo_features)}")

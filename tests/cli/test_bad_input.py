@@ -306,7 +306,7 @@ CASES: list[Case] = [
     C("leaderboard-zero-truth", ROUND3, "leaderboard {res:zero-truth}", "true_weights [0.0, 0.0, 0.0] are not"),
     C("leaderboard-wrong-truth", ROUND3, "leaderboard {res:wrong-truth}", "are not the truth of weight set 'nominal'"),
     C("leaderboard-huge-n-solves", ROUND3, "leaderboard {res:huge-n-solves}", "n_solves must be between 0 and"),
-    C("leaderboard-multiline-status", ROUND3, "leaderboard {res:multiline-status}", "status must be a short word"),
+    C("leaderboard-multiline-status", ROUND3, "leaderboard {res:multiline-status}", "status must be one line of 1 to"),
     C("leaderboard-nested-result", ROUND3, "leaderboard {res:nested}", "JSON nested deeper than 64 levels"),
     # issue 24, paths that passed the check and failed after the work
     C("gait-out-empty", ROUND3, "gait --out {empty}", "empty string"),
