@@ -2,11 +2,14 @@
 
 Used where values arrive from users or files: seeds and worker counts of the Python API,
 algorithm config overrides from the command line, case records read back from disk. A
-bad value is a one-line ``ValueError`` saying what was expected.
+bad value is a one-line ``ValueError`` saying what was expected. Values are shown in
+messages by :func:`shown` (short, whatever their size) and JSON text from outside is read
+by :func:`load_json` (nesting bounded, so never a ``RecursionError``).
 """
 
 from __future__ import annotations
 
+import json
 import math
 import types
 import typing
@@ -14,28 +17,93 @@ from typing import Any
 
 import numpy as np
 
+#: Deepest nesting of JSON read from outside (configs, result files, demonstration headers);
+#: ours is at most a few levels deep.
+MAX_JSON_DEPTH = 64
+#: Largest integer a JSON value of ours may hold unless a field says otherwise: a C ``int``,
+#: what IPOPT's counts take. Counts beyond it would only hang or crash deep inside.
+MAX_INT = 2**31 - 1
+#: Longest message (characters) of a one-line error; longer ones are cut in the middle.
+MAX_MESSAGE = 400
+
 
 class TypeMismatch(ValueError):
     """A value does not match its annotation; the message says what was expected."""
 
 
+def shown(value: Any, limit: int = 60) -> str:
+    """``repr(value)`` cut to at most ``limit`` characters, safe for huge integers and containers."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 4 * limit:
+        return f"an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits"
+    if isinstance(value, (list, tuple, dict, set, frozenset)) and len(value) > limit:
+        return f"a {type(value).__name__} of {len(value)} items"
+    try:
+        text = repr(value)
+    except ValueError:  # holds an integer too long for str()
+        return f"a {type(value).__name__}"
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def one_line(text: str, limit: int = MAX_MESSAGE) -> str:
+    """``text`` on one line, cut in the middle to at most ``limit`` characters."""
+    text = " ".join(str(text).split())
+    if len(text) <= limit:
+        return text
+    head = (limit - 5) * 2 // 3
+    return f"{text[:head]} ... {text[len(text) - (limit - 5 - head) :]}"
+
+
+def load_json(text: str | bytes, max_depth: int = MAX_JSON_DEPTH) -> Any:
+    """Decode JSON from outside; ``ValueError`` (one line) for bad JSON or nesting beyond ``max_depth``.
+
+    Python's decoder recurses once per level and raises ``RecursionError`` on deep
+    nesting; here that, and any nesting deeper than ``max_depth``, is a ``ValueError``.
+    """
+    try:
+        value = json.loads(text)
+    except RecursionError:
+        raise ValueError(f"JSON nested deeper than {max_depth} levels") from None
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"not JSON ({one_line(str(exc), 120)})") from None
+    except ValueError:  # Python refuses to convert an integer literal of over 4300 digits
+        raise ValueError("JSON holding an integer of over 4300 digits") from None
+    if json_depth(value) > max_depth:
+        raise ValueError(f"JSON nested deeper than {max_depth} levels")
+    return value
+
+
+def json_depth(value: Any) -> int:
+    """Nesting depth of a decoded JSON value (a scalar is 0), without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, dict):
+            item = list(item.values())
+        if isinstance(item, (list, tuple)):
+            deepest = max(deepest, depth + 1)
+            stack.extend((v, depth + 1) for v in item if isinstance(v, (list, tuple, dict)))
+    return deepest
+
+
 def check_seed(seed: Any, what: str = "seed") -> int:
     """``seed`` if it is a non-negative integer (what NumPy's generators accept), else ``ValueError``."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"{what} must be a non-negative integer, got {seed!r}")
+        raise ValueError(f"{what} must be a non-negative integer, got {shown(seed)}")
     return int(seed)
 
 
-def check_count(value: Any, what: str, optional: bool = False) -> int | None:
-    """``value`` if it is an integer >= 1 (or None when ``optional``), else ``ValueError``."""
+def check_count(value: Any, what: str, optional: bool = False, maximum: int | None = None) -> int | None:
+    """``value`` if it is an integer >= 1 (and <= ``maximum``; or None when ``optional``), else ``ValueError``."""
     if optional and value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ValueError(f"{what} must be an integer >= 1{' or None' if optional else ''}, got {value!r}")
+        raise ValueError(f"{what} must be an integer >= 1{' or None' if optional else ''}, got {shown(value)}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{what} must be at most {maximum}, got {shown(int(value))}")
     return int(value)
 
 
-def coerce(value: Any, hint: Any, nonfinite: bool = False) -> Any:
+def coerce(value: Any, hint: Any, nonfinite: bool = False, max_int: int | None = MAX_INT) -> Any:
     """``value`` checked against ``hint`` and converted as JSON needs.
 
     Understands ``Any``, ``bool``, ``int``, ``float``, ``str``, ``None``, unions,
@@ -43,8 +111,18 @@ def coerce(value: Any, hint: Any, nonfinite: bool = False) -> Any:
     the value through unchecked. Ints are accepted (and converted) for floats and lists
     for tuples, as JSON gives them; bools are never numbers. With ``nonfinite``, floats
     may be NaN or infinite and ``None`` stands for NaN (as JSON stores NaN); otherwise
-    floats must be finite.
+    floats must be finite. Integers must lie within ``±max_int`` (None: any size).
     """
+    return _coerce(value, hint, _Mode(nonfinite, max_int))
+
+
+class _Mode(typing.NamedTuple):
+    nonfinite: bool
+    max_int: int | None
+
+
+def _coerce(value: Any, hint: Any, mode: _Mode) -> Any:
+    nonfinite = mode.nonfinite
     origin, args = typing.get_origin(hint), typing.get_args(hint)
     if hint is Any or hint is object:
         return value
@@ -53,21 +131,21 @@ def coerce(value: Any, hint: Any, nonfinite: bool = False) -> Any:
             return None  # an optional value that is absent (not a NaN stored as null)
         for option in args:
             try:
-                return coerce(value, option, nonfinite)
+                return _coerce(value, option, mode)
             except TypeMismatch:
                 continue
         raise TypeMismatch(" or ".join(describe(a, nonfinite) for a in args))
     if hint in _SCALARS:
-        return _scalar(value, hint, nonfinite)
+        return _scalar(value, hint, mode)
     if origin in (tuple, list):
-        return _sequence(value, hint, nonfinite)
+        return _sequence(value, hint, mode)
     if origin is dict or hint is dict:
         if not isinstance(value, dict):
             raise TypeMismatch(describe(hint, nonfinite))
         if not args:
             return value
         try:
-            return {coerce(k, args[0], nonfinite): coerce(v, args[1], nonfinite) for k, v in value.items()}
+            return {_coerce(k, args[0], mode): _coerce(v, args[1], mode) for k, v in value.items()}
         except TypeMismatch:
             raise TypeMismatch(describe(hint, nonfinite)) from None
     return value
@@ -90,15 +168,22 @@ def describe(hint: Any, nonfinite: bool = False) -> str:
 _SCALARS = {bool: "true or false", int: "an integer", float: "a number", str: "a string", type(None): "null"}
 
 
-def _scalar(value: Any, hint: type, nonfinite: bool) -> Any:
+def _scalar(value: Any, hint: type, mode: _Mode) -> Any:
+    nonfinite = mode.nonfinite
     number = isinstance(value, (int, float)) and not isinstance(value, bool)
     if hint is float:
         if nonfinite and value is None:
             return math.nan
-        if number and (nonfinite or math.isfinite(value)):
-            return float(value)
+        try:
+            converted = float(value) if number else None
+        except OverflowError:  # an integer beyond any float
+            converted = None
+        if converted is not None and (nonfinite or math.isfinite(converted)):
+            return converted
     elif hint is int:
         if number and isinstance(value, int):
+            if mode.max_int is not None and abs(value) > mode.max_int:
+                raise TypeMismatch(f"an integer within ±{mode.max_int}")
             return value
     elif hint is type(None):
         if value is None:
@@ -108,18 +193,19 @@ def _scalar(value: Any, hint: type, nonfinite: bool) -> Any:
     raise TypeMismatch(describe(hint, nonfinite))
 
 
-def _sequence(value: Any, hint: Any, nonfinite: bool) -> Any:
+def _sequence(value: Any, hint: Any, mode: _Mode) -> Any:
+    nonfinite = mode.nonfinite
     origin, args = typing.get_origin(hint), typing.get_args(hint)
     if not isinstance(value, (list, tuple)):
         raise TypeMismatch(describe(hint, nonfinite))
     try:
         if origin is tuple and len(args) == 2 and args[1] is Ellipsis:
-            return tuple(coerce(v, args[0], nonfinite) for v in value)
+            return tuple(_coerce(v, args[0], mode) for v in value)
         if origin is tuple and args:
             if len(args) != len(value):
                 raise TypeMismatch(describe(hint, nonfinite))
-            return tuple(coerce(v, a, nonfinite) for v, a in zip(value, args))
-        return origin(coerce(v, args[0], nonfinite) for v in value) if args else origin(value)
+            return tuple(_coerce(v, a, mode) for v, a in zip(value, args))
+        return origin(_coerce(v, args[0], mode) for v in value) if args else origin(value)
     except TypeMismatch:
         raise TypeMismatch(describe(hint, nonfinite)) from None
 

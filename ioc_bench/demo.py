@@ -8,9 +8,10 @@ array's shape and names the first problem found.
 
 from __future__ import annotations
 
+import io
 import json
-import math
 import os
+import sys
 import typing
 import zipfile
 from dataclasses import dataclass, field
@@ -19,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.checks import TypeMismatch, coerce
+from ioc_bench.checks import TypeMismatch, coerce, load_json, shown
 from ioc_bench.features import COST_FEATURES, model_features
-from ioc_bench.fileio import atomic_write
+from ioc_bench.fileio import PathError, atomic_write, check_output_file, read_bytes
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitParams
 from ioc_bench.task import Task
@@ -34,6 +35,10 @@ from ioc_bench.trajopt.solution import SolverReport
 #: Version of the file layout; bump on any incompatible change.
 SCHEMA_VERSION = 2
 _TRAJ_PREFIX = "traj_"
+#: Largest demonstration file read (bytes); ours are well under 1 MB.
+MAX_FILE_BYTES = 64 * 2**20
+#: Most bytes a demonstration's arrays may unpack to, and most arrays it may hold.
+MAX_UNPACKED_BYTES, MAX_MEMBERS = 256 * 2**20, 64
 
 
 class DemonstrationFileError(ValueError):
@@ -84,8 +89,12 @@ class Demonstration:
         return np.array([self.weights.get(f, 0.0) for f in COST_FEATURES])
 
     def save(self, path: str | os.PathLike) -> Path:
-        """Write the demonstration to ``path`` (``.npz``) atomically; returns the path."""
-        path = Path(path)
+        """Write the demonstration to ``path`` (``.npz``) atomically; returns the path.
+
+        Raises ``ValueError`` (:class:`~ioc_bench.fileio.PathError`) for a path that cannot
+        be written (see :func:`~ioc_bench.fileio.check_output_file`), before writing.
+        """
+        path = check_output_file(path)
         meta = {
             "schema": SCHEMA_VERSION,
             "weights": self.weights,
@@ -112,14 +121,20 @@ class Demonstration:
 
         Raises:
             DemonstrationFileError: for every way the file can be missing, unreadable or
-                malformed (a message naming the file and the first problem found).
+                malformed (a message naming the file and the first problem found): also
+                for a ``path`` that is not a path, or names a folder, FIFO or device, or
+                a file over :data:`MAX_FILE_BYTES`.
         """
+        if isinstance(path, (bytes, bytearray)) or not isinstance(path, (str, os.PathLike)):
+            raise DemonstrationFileError(
+                f"path must be a demonstration file's path (str or os.PathLike), got {type(path).__name__}"
+            )
+        try:
+            raw = read_bytes(path, MAX_FILE_BYTES, what="demonstration file")
+        except PathError as exc:
+            raise DemonstrationFileError(str(exc)) from None
         path = Path(path)
-        if path.is_dir():
-            raise DemonstrationFileError(f"{path} is a directory, not a demonstration file")
-        if not path.is_file():
-            raise DemonstrationFileError(f"demonstration file not found: {path}")
-        arrays = _read_arrays(path)
+        arrays = _read_arrays(path, raw)
         try:
             return cls._from_arrays(arrays)
         except (KeyError, TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
@@ -144,13 +159,13 @@ class Demonstration:
             raise ValueError(f"features {sorted(features)} do not match {list(names)}")
         weights = _numbers(meta["weights"], "weights")
         if any(w < 0 for w in weights.values()) or set(weights) - set(names):
-            raise ValueError(f"weights must be non-negative, over {list(names)}: got {weights}")
+            raise ValueError(f"weights must be non-negative, over {list(names)}: got {shown(weights)}")
         task = meta["task"]
         if not isinstance(task, dict) or not {"speed"} <= set(task) <= {"speed", "step_length"}:
-            raise ValueError(f"task must be an object with a speed (and a step_length), got {task!r}")
+            raise ValueError(f"task must be an object with a speed (and a step_length), got {shown(task)}")
         n_intervals = meta["n_intervals"]
-        if isinstance(n_intervals, bool) or not isinstance(n_intervals, int) or n_intervals < 0:
-            raise ValueError(f"n_intervals must be a non-negative integer, got {n_intervals!r}")
+        if isinstance(n_intervals, bool) or not isinstance(n_intervals, int) or not 0 <= n_intervals <= 10**6:
+            raise ValueError(f"n_intervals must be an integer from 0 to 10**6, got {shown(n_intervals)}")
         gait, check = meta.get("gait"), meta.get("local_minimum")
         return cls(
             trajectory=traj,
@@ -169,12 +184,29 @@ class Demonstration:
         )
 
 
-def _read_arrays(path: Path) -> dict[str, np.ndarray]:
-    """Every array of the ``.npz`` archive at ``path``, or :class:`DemonstrationFileError`."""
-    if not zipfile.is_zipfile(path):
+def _read_arrays(path: Path, raw: bytes) -> dict[str, np.ndarray]:
+    """Every array of the ``.npz`` archive ``raw`` read from ``path``, or :class:`DemonstrationFileError`.
+
+    The archive's listing is checked before anything is unpacked: at most
+    :data:`MAX_MEMBERS` members of :data:`MAX_UNPACKED_BYTES` in all (no zip bomb).
+    """
+    if not zipfile.is_zipfile(io.BytesIO(raw)):
         raise DemonstrationFileError(f"{path} is not a readable .npz demonstration (not a zip archive)")
     try:
-        with np.load(path, allow_pickle=False) as data:
+        with zipfile.ZipFile(io.BytesIO(raw)) as archive:
+            members = archive.infolist()
+    except Exception as exc:  # a damaged directory fails in zipfile in many ways
+        raise DemonstrationFileError(
+            f"{path} is not a readable .npz demonstration ({type(exc).__name__}: {_one_line(exc)})"
+        ) from None
+    unpacked = sum(m.file_size for m in members)
+    if len(members) > MAX_MEMBERS or unpacked > MAX_UNPACKED_BYTES:
+        raise DemonstrationFileError(
+            f"{path} is not a readable .npz demonstration ({len(members)} arrays of {unpacked} bytes unpacked; "
+            f"at most {MAX_MEMBERS} of {MAX_UNPACKED_BYTES} bytes)"
+        )
+    try:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
     except Exception as exc:  # a damaged archive fails in zipfile, zlib or numpy's format reader
         raise DemonstrationFileError(
@@ -193,9 +225,9 @@ def _meta(arrays: dict[str, np.ndarray]) -> dict:
     if raw.shape != () or raw.dtype.kind not in "US":
         raise ValueError(f"'meta' header must be one JSON string, got a {raw.dtype} array of shape {raw.shape}")
     try:
-        decoded = json.loads(str(raw))
+        decoded = load_json(str(raw))
     except ValueError as exc:
-        raise ValueError(f"'meta' header is not JSON ({exc})") from None
+        raise ValueError(f"'meta' header is {exc}") from None
     meta = _object(decoded, "'meta' header")
     if meta.get("schema") != SCHEMA_VERSION:
         raise ValueError(f"schema version {meta.get('schema')!r}, this ioc-bench reads {SCHEMA_VERSION}")
@@ -212,8 +244,8 @@ def _numbers(value: Any, what: str) -> dict[str, float]:
     """A JSON object of finite numbers, as floats."""
     out = {}
     for key, v in _object(value, what).items():
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise ValueError(f"{what}[{key!r}] must be a finite number, got {v!r}")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not abs(v) <= sys.float_info.max:
+            raise ValueError(f"{what}[{shown(key)}] must be a finite number, got {shown(v)}")
         out[key] = float(v)
     return out
 
@@ -255,7 +287,7 @@ def _multistart(ms: Any) -> MultiStartSummary | None:
         records.append(StartRecord(index, origin, _typed(SolverReport, s, "multistart start")))
     best = ms.get("best")
     if isinstance(best, bool) or not isinstance(best, int) or not 0 <= best < len(records):
-        raise ValueError(f"multistart.best must index its starts, got {best!r}")
+        raise ValueError(f"multistart.best must index its starts, got {shown(best)}")
     return MultiStartSummary(tuple(records), best)
 
 

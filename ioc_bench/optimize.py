@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ioc_bench.checks import check_count, check_seed
+from ioc_bench.checks import check_count, check_seed, shown
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import evaluate, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
@@ -30,6 +30,10 @@ from ioc_bench.weights import WeightSpec, parse_weights
 
 #: The paper's number of starts.
 DEFAULT_STARTS = 15
+#: Most starts (and worker processes) one call takes: each start is a full solve.
+MAX_STARTS = 10_000
+#: Most Hermite-Simpson intervals: the benchmark uses 30; beyond this the NLP will not fit in memory.
+MAX_INTERVALS = 10_000
 
 
 def optimize_gait(
@@ -74,22 +78,29 @@ def optimize_gait(
         feasible it is still returned, with ``solver.success`` False.
 
     Raises:
-        ValueError: bad input (weights, a ``task`` that is not a :class:`Task`, an ``init``
-            that is not a :class:`Demonstration`, counts below 1, a negative seed), before
-            any solve.
+        ValueError: bad input, naming the argument, before any solve: weights; a
+            ``params``, ``task``, ``rules``, ``model``, ``init`` or item of ``guesses`` of
+            the wrong type; counts below 1 or above :data:`MAX_STARTS` (starts, workers)
+            or :data:`MAX_INTERVALS`; a negative seed; a non-callable ``on_start_done``.
     """
+    model = _instance(model, GaitModel, "model", "ioc_bench.model.walker.WALKER") or WALKER
     params_type = type(model.default_params)
     params = _instance(params, params_type, "params", f"{params_type.__name__}()") or model.default_params
     task = _instance(task, Task, "task", "Task(speed=0.27)") or Task()
+    rules = _instance(rules, StepRules, "rules", "StepRules()") or StepRules()
     w = parse_weights(weights, model_features(model))
-    starts = check_count(starts, "starts")
+    starts = check_count(starts, "starts", maximum=MAX_STARTS)
     seed = check_seed(seed)
-    workers = check_count(workers, "workers", optional=True)
-    n_intervals = check_count(n_intervals, "n_intervals")
+    workers = check_count(workers, "workers", optional=True, maximum=MAX_STARTS)
+    n_intervals = check_count(n_intervals, "n_intervals", maximum=MAX_INTERVALS)
     init = _instance(init, Demonstration, "init", "Demonstration.load(path)")
+    if isinstance(guesses, (str, bytes, Demonstration)) or not isinstance(guesses, Sequence):
+        raise ValueError(f"guesses must be a list of Demonstrations, got {type(guesses).__name__} {shown(guesses)}")
     guesses = [_instance(g, Demonstration, "each of guesses", "Demonstration.load(path)") for g in guesses]
     if on_start_done is not None and not callable(on_start_done):
-        raise ValueError(f"on_start_done must be callable, got {on_start_done!r}")
+        raise ValueError(f"on_start_done must be callable, got {shown(on_start_done)}")
+    if not isinstance(verify, (bool, np.bool_)):
+        raise ValueError(f"verify must be True or False, got {shown(verify)}")
     forward = get_forward_problem(model, n_intervals)
     request = SolveRequest(StartPoint(np.zeros(forward.n_x)), params, task, w, rules=rules)
     if init is not None:
@@ -111,7 +122,7 @@ def optimize_gait(
 def _instance(value: object, cls: type, what: str, example: str):
     """``value`` if it is None or a ``cls``; else a ``ValueError`` showing how to make one."""
     if value is not None and not isinstance(value, cls):
-        raise ValueError(f"{what} must be a {cls.__name__} (e.g. {example}), got {type(value).__name__} {value!r:.60}")
+        raise ValueError(f"{what} must be a {cls.__name__} (e.g. {example}), got {type(value).__name__} {shown(value)}")
     return value
 
 

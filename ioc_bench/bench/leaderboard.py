@@ -31,9 +31,11 @@ from ioc_bench.bench.conditions import CONDITIONS
 from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
-from ioc_bench.fileio import atomic_write_many, json_text
+from ioc_bench.fileio import atomic_write_many, check_output_dir, check_output_file, json_text
 from ioc_bench.weights import WEIGHT_SETS
 
+#: The files a leaderboard is written as, in its output folder.
+FILES = ("README.md", "leaderboard.json")
 #: Minimum seeds per case for a bootstrap confidence interval.
 MIN_SEEDS_FOR_CI = 3
 #: The paper's findings, one per condition (Rebula et al. 2019, section III).
@@ -264,7 +266,8 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
     for label, r in labelled:
         w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else _cell_text(r.reason)
         lines.append(
-            f"| {label} | {r.weight_set} | {r.condition} | {r.seed} | {r.status} | {w} ({', '.join(r.features)}) "
+            f"| {label} | {r.weight_set} | {r.condition} | {r.seed} | {_cell_text(r.status)} | "
+            f"{w} ({', '.join(r.features)}) "
             f"| {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {r.wall_time:.1f} | {r.n_solves} |"
         )
     return lines
@@ -329,10 +332,14 @@ def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, sou
     Both are rendered before either is written, and written with
     :func:`~ioc_bench.fileio.atomic_write_many`: an error leaves the old board whole.
     ``leaderboard.json`` records the SHA-256 of the ``README.md`` written with it.
+    Raises ``ValueError`` for no results, or an ``out`` (or a file in it) that cannot be
+    written (:mod:`ioc_bench.fileio`'s checks), before anything is written.
     """
     if not results:
         raise ValueError("no case results to summarise")
-    out = Path(out)
+    out = check_output_dir(out)
+    for name in FILES:
+        check_output_file(out / name)
     md = markdown(results, source).encode()
     data = {
         "generated_by": f"ioc-bench leaderboard {source}",
@@ -345,4 +352,5 @@ def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, sou
             for r in results
         ],
     }
-    return atomic_write_many({out / "README.md": md, out / "leaderboard.json": json_text(data).encode()})
+    readme, board = (out / name for name in FILES)
+    return atomic_write_many({readme: md, board: json_text(data).encode()})

@@ -10,24 +10,43 @@ A file exists only once its case has finished (successfully or not), so a direct
 results is always a consistent record to resume from or to summarise. Readers take only
 files named like results (never temporaries, leaderboards or notes that happen to sit
 in the folder), and every problem with one is a :class:`ResultFileError` naming the file.
+
+A result file is never trusted: it must be a regular file inside its results folder (no
+link leading out, no FIFO or device, at most :data:`MAX_RESULT_BYTES`), every field typed
+and in range (:func:`parse_result`), and its content must be the case its name says
+(:func:`recorded_spec`: the case's identity fields, compared through the key they make,
+so a field added to :class:`CaseSpec` is compared too). One file is one case.
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
+import math
 import os
 import re
 import typing
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
-from ioc_bench.checks import TypeMismatch, coerce
-from ioc_bench.fileio import atomic_write_json, remove_temporaries
-from ioc_bench.ioc.registry import NAME_PATTERN, config_overrides
+from ioc_bench.checks import TypeMismatch, check_seed, coerce, load_json, one_line, shown
+from ioc_bench.features import FEATURES
+from ioc_bench.fileio import (
+    PathError,
+    atomic_write_json,
+    check_inside,
+    check_path_text,
+    read_bytes,
+    remove_temporaries,
+    to_jsonable,
+)
+from ioc_bench.ioc.contract import MAX_STATUS
+from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``).
@@ -36,6 +55,17 @@ RESULT_NAME = re.compile(
 )
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
+#: Largest result file read (bytes); a case's record, history included, is some 100 KB.
+MAX_RESULT_BYTES = 32 * 2**20
+#: Most forward solves a case may record: a day of 1 ms solves is under 10^8.
+MAX_SOLVES = 10**9
+#: Longest time (seconds) a case may record: some 30 years.
+MAX_WALL_TIME = 1e9
+#: What a status may look like: the text the plugin contract allows (``converged``,
+#: ``failed: <reason>``, at most ``MAX_STATUS`` characters), on one line.
+STATUS_PATTERN = re.compile(rf"[^\x00-\x1f\x7f]{{1,{MAX_STATUS}}}")
+#: How far a file's true weights may be from its weight set's (unit-norm) truth.
+TRUTH_TOLERANCE = 1e-9
 
 
 class ResultFileError(ValueError):
@@ -69,33 +99,122 @@ def run_slug(result: CaseResult) -> str:
 
 
 def write_result(root: str | os.PathLike, spec: CaseSpec, result: CaseResult) -> Path:
-    """Write ``result`` as the file of ``spec`` under ``root`` (atomically)."""
+    """Write ``result`` as the file of ``spec`` under ``root`` (atomically).
+
+    Raises :class:`ResultFileError` if the file would land outside ``root`` (through a
+    linked algorithm folder) or cannot be named there; nothing is written then.
+    """
+    check_case_path(root, spec)
     data = result.to_dict() | {"case_key": spec.key, "case_config": dict(spec.config)}
     return atomic_write_json(spec.path(root), data)
 
 
-def read_result(path: str | os.PathLike) -> CaseResult:
-    """Load one result file; raises :class:`ResultFileError` naming the file and the problem."""
+def check_case_path(root: str | os.PathLike, spec: CaseSpec) -> Path:
+    """``spec``'s file under ``root`` if it can be written there and stays inside ``root``.
+
+    Raises :class:`ResultFileError` for a name too long for the file system, an algorithm
+    folder that is a file or a link leading out of ``root``.
+    """
+    path = spec.path(root)
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ResultFileError(f"cannot read result file {path}: {_one_line(exc)}") from None
+        check_path_text(path)
+        folder = path.parent
+        if folder.exists() or folder.is_symlink():
+            check_inside(root, folder)  # a link loop, or a link leading out
+            if not folder.is_dir():
+                raise PathError(f"{folder} is not a directory")
+    except PathError as exc:
+        raise ResultFileError(f"cannot write the result of {spec.key}: {_one_line(exc)}") from None
+    return path
+
+
+def read_result(path: str | os.PathLike, root: str | os.PathLike | None = None) -> CaseResult:
+    """Load one result file; raises :class:`ResultFileError` naming the file and the problem.
+
+    The file must be a regular file (never a link, FIFO or device) of at most
+    :data:`MAX_RESULT_BYTES`, and a valid record (:func:`parse_result`). With ``root``
+    (the results folder it lies in) it must also lie inside ``root`` and its content must
+    be the case its name says.
+    """
+    return _read(path, root)[0]
+
+
+def _read(path: str | os.PathLike, root: str | os.PathLike | None) -> tuple[CaseResult, CaseSpec | None]:
+    """:func:`read_result`, and with ``root`` the case the file holds."""
     try:
-        data = json.loads(text)
-    except ValueError as exc:
-        raise ResultFileError(f"{path} is not a case result: not JSON ({_one_line(exc)})") from None
+        if root is not None:
+            check_inside(root, Path(path).parent)
+        raw = read_bytes(path, MAX_RESULT_BYTES, what="result file", follow_symlinks=False)
+    except PathError as exc:  # its message names the file
+        raise ResultFileError(_one_line(exc)) from None
     try:
-        return parse_result(data)
+        data = load_json(raw.decode("utf-8"))
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ResultFileError(f"{path} is not a case result: {_one_line(exc)}") from None
+    try:
+        result = parse_result(data)
     except ValueError as exc:
         raise ResultFileError(f"{path} is not a case result: {_one_line(exc)}") from None
+    if root is None:
+        return result, None
+    return result, _check_name_matches(Path(path), Path(root), result, data)
+
+
+def _check_name_matches(path: Path, root: Path, result: CaseResult, data: dict) -> CaseSpec:
+    """The case a file holds; :class:`ResultFileError` if it is another than its name (and place) says."""
+    try:
+        spec = recorded_spec(result, data.get("case_config"))
+    except ValueError as exc:
+        raise ResultFileError(f"{path} is not a case result: {_one_line(exc)}") from None
+    named = path.relative_to(root).with_suffix("").as_posix() if path.is_relative_to(root) else path.stem
+    if spec.key != named:
+        raise ResultFileError(f"{path} holds the case {spec.key}, not the one its name says ({named})")
+    if data.get("case_key") not in (None, spec.key):
+        raise ResultFileError(f"{path} records case_key {shown(data['case_key'])}, but holds the case {spec.key}")
+    return spec
+
+
+def recorded_spec(result: CaseResult, case_config: Mapping[str, Any] | None = None) -> CaseSpec:
+    """The case a result's content says it is: its values of every :class:`CaseSpec` field.
+
+    Checked as any :class:`CaseSpec` is (``ValueError``). The config is the canonical one:
+    the recorded config's fields that differ from the algorithm's defaults, or, where the
+    algorithm is not installed here (or has no config dataclass), ``case_config`` as
+    :func:`write_result` recorded it. A ``case_config`` that disagrees with the config is
+    refused.
+    """
+    identity = {name: getattr(result, name) for name in case_fields() if name != "config" and hasattr(result, name)}
+    spec = CaseSpec(**identity)
+    object.__setattr__(spec, "config", _recorded_config(result, case_config))  # already canonical
+    return spec
+
+
+def case_fields() -> tuple[str, ...]:
+    """The fields that name a case (:class:`CaseSpec`'s): a file's name and content agree on each."""
+    return tuple(f.name for f in fields(CaseSpec) if f.init)
+
+
+def _recorded_config(result: CaseResult, case_config: Mapping[str, Any] | None) -> dict[str, Any]:
+    try:
+        defaults = make_algorithm(result.algorithm).config_dict()
+    except ValueError:  # the algorithm is not installed here: the file's own record stands
+        defaults = {}
+    if not defaults:
+        return dict(case_config) if case_config is not None else dict(result.config)
+    config = config_overrides(result.algorithm, result.config)
+    if case_config is not None and to_jsonable(dict(case_config)) != config:
+        raise ValueError(
+            f"case_config {shown(dict(case_config))} is not its config's difference from the defaults {shown(config)}"
+        )
+    return config
 
 
 def parse_result(data: Any) -> CaseResult:
     """A :class:`CaseResult` from a decoded JSON value; ``ValueError`` naming the first problem.
 
     Checks every field against :class:`CaseResult`'s annotations (numbers are numbers,
-    NaN stored as null), that no required field is missing and no unknown one present, and
-    that the weight vectors have one entry per feature.
+    NaN stored as null), that no required field is missing and no unknown one present,
+    and that every value is in range (:func:`check_result`).
     """
     if not isinstance(data, dict):
         raise ValueError(f"expected a JSON object, got {_json_kind(data)}")
@@ -106,72 +225,174 @@ def parse_result(data: Any) -> CaseResult:
         raise ValueError(f"missing field(s) {', '.join(missing)}")
     unknown = [k for k in data if k not in hints and k not in _FILE_FIELDS]
     if unknown:
-        raise ValueError(f"unknown field(s) {', '.join(map(str, unknown))}")
+        raise ValueError(f"unknown field(s) {', '.join(one_line(str(k), 40) for k in unknown[:5])}")
     values = {}
     for key, value in data.items():
         try:
-            checked = coerce(value, hints.get(key) or _FILE_FIELDS[key], nonfinite=True)
+            checked = coerce(value, hints.get(key) or _FILE_FIELDS[key], nonfinite=True, max_int=None)
         except TypeMismatch as exc:
             raise ValueError(f"{key} must be {exc}, got {_json_kind(value)}") from None
         if key in hints:
             values[key] = checked
     result = CaseResult(**values)
-    n = len(result.features)
-    for key in ("weights", "true_weights"):
-        if len(getattr(result, key)) != n:
-            raise ValueError(f"{key} has {len(getattr(result, key))} entries for {n} features")
-    if result.seed < 0:
-        raise ValueError(f"seed must be >= 0, got {result.seed}")
+    check_result(result)
     return result
+
+
+def check_result(result: CaseResult) -> None:
+    """``ValueError`` naming the first value of ``result`` out of its range.
+
+    The identity is a case (algorithm name, model, weight set, condition, seed: the
+    :class:`CaseSpec` they make, without config); the features are that case's, known and
+    distinct; the true weights are its truth over them; estimated weights non-negative and
+    not all zero (or NaN for a failed case); errors and times non-negative (NaN only where
+    a case may lack them), a sane solve count, a chosen iteration inside the history, a
+    short status.
+    """
+    check_name(result.algorithm)
+    check_seed(result.seed)
+    names = result.features
+    if len(set(names)) != len(names) or not set(names) <= set(FEATURES):
+        raise ValueError(f"features must be distinct known features, got {shown(list(names))}")
+    identity = {f: getattr(result, f) for f in case_fields() if f != "config" and hasattr(result, f)}
+    case = CaseSpec(**identity)  # a known model, weight set and condition
+    if tuple(names) != tuple(case.features):
+        raise ValueError(f"features {list(names)} are not the {case.condition} condition's {list(case.features)}")
+    for key in ("weights", "true_weights"):
+        if len(getattr(result, key)) != len(names):
+            raise ValueError(f"{key} has {len(getattr(result, key))} entries for {len(names)} features")
+    expected = case.true_over_features()
+    true = np.array(result.true_weights, dtype=float)
+    if not np.all(np.isfinite(true)) or np.max(np.abs(true - expected)) > TRUTH_TOLERANCE:
+        raise ValueError(
+            f"true_weights {shown(list(result.true_weights))} are not the truth of weight set "
+            f"{shown(result.weight_set)} over {list(names)}, {shown([round(x, 6) for x in expected.tolist()])}"
+        )
+    _check_estimate(result)
+    _check_numbers(result)
+    if not STATUS_PATTERN.fullmatch(result.status):
+        raise ValueError(f"status must be one line of 1 to {MAX_STATUS} characters, got {shown(result.status)}")
+    unknown = set(result.demo_features) - set(FEATURES)
+    if unknown or not all(np.isfinite(v) for v in result.demo_features.values()):
+        raise ValueError(f"demo_features must map known features to finite numbers, got {shown(result.demo_features)}")
+
+
+def _check_estimate(result: CaseResult) -> None:
+    w = np.array(result.weights, dtype=float)
+    if result.failed:
+        if np.any(w[np.isfinite(w)] < 0) or np.any(np.isinf(w)):
+            raise ValueError(f"weights must be non-negative or null, got {shown(list(result.weights))}")
+        return
+    if not np.all(np.isfinite(w)) or np.any(w < 0) or not np.any(w > 0):
+        raise ValueError(
+            f"weights of a case that did not fail must be finite, non-negative and not all zero, "
+            f"got {shown(list(result.weights))}"
+        )
+
+
+def _check_numbers(result: CaseResult) -> None:
+    def check(name: str, value: float | None, upper: float = math.inf, may_be_nan: bool = True) -> None:
+        if value is None:
+            return
+        if math.isnan(value) and may_be_nan:
+            return
+        if not 0 <= value <= upper:
+            what = "a non-negative finite number" if upper == math.inf else f"a number from 0 to {upper:g}"
+            raise ValueError(f"{name} must be {what}, got {shown(value)}")
+
+    check("weight_error", result.weight_error, 1.0, may_be_nan=result.failed)
+    check("trajectory_error", result.trajectory_error, math.inf)
+    check("found_trajectory_error", result.found_trajectory_error, math.inf, may_be_nan=False)
+    check("wall_time", result.wall_time, MAX_WALL_TIME, may_be_nan=False)
+    check("demo_speed", result.demo_speed, math.inf, may_be_nan=False)
+    if not 0 <= result.n_solves <= MAX_SOLVES:
+        raise ValueError(f"n_solves must be between 0 and {MAX_SOLVES}, got {shown(result.n_solves)}")
+    i = result.chosen_iteration
+    if i is not None and not 0 <= i < len(result.history):
+        raise ValueError(f"chosen_iteration must index the history ({len(result.history)} entries), got {shown(i)}")
 
 
 def _json_kind(value: Any) -> str:
     if value is None:
         return "null"
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 128:
+        return shown(value)
     text = json.dumps(value) if isinstance(value, (bool, int, float, str)) else type(value).__name__
     return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _one_line(exc: BaseException) -> str:
-    return " ".join(str(exc).split())
+    return one_line(str(exc))
 
 
 def result_files(root: str | os.PathLike) -> list[Path]:
     """The result files under ``root`` (``<algorithm>/<case>.json``), sorted; nothing else.
 
-    Raises :class:`ResultFileError` if ``root`` is not a directory.
+    Lists names only (whatever they are: a FIFO or a link named like a result is listed,
+    for the reader to refuse by name). Raises :class:`ResultFileError` if ``root`` is not
+    a directory.
     """
     root = Path(root)
     if not root.is_dir():
         raise ResultFileError(f"results directory not found: {root}")
-    return sorted(
-        p for p in root.glob("*/*.json") if RESULT_NAME.fullmatch(p.name) and NAME_PATTERN.fullmatch(p.parent.name)
-    )
+    found = []
+    for folder in sorted(root.iterdir()):
+        if NAME_PATTERN.fullmatch(folder.name) and ".." not in folder.name and folder.is_dir():
+            found += [folder / name for name in sorted(os.listdir(folder)) if RESULT_NAME.fullmatch(name)]
+    return found
 
 
 def no_results_message(root: str | os.PathLike) -> str:
     """Why ``root`` holds no results, naming JSON files that are not named like results."""
-    others = sorted(p.relative_to(root).as_posix() for p in Path(root).rglob("*.json") if p not in result_files(root))
+    listed = set(result_files(root))
+    others = sorted(p.relative_to(root).as_posix() for p in _json_files(Path(root)) if p not in listed)
     if not others:
         return f"no case results in {root}"
-    shown = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
-    return f"no case results in {root} ({len(others)} .json file(s) not named like results: {shown})"
+    shown_files = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
+    return f"no case results in {root} ({len(others)} .json file(s) not named like results: {shown_files})"
+
+
+def _json_files(root: Path, limit: int = 1000) -> list[Path]:
+    """Up to ``limit`` ``.json`` names under ``root``, never following links to folders."""
+    found = []
+    for folder, _dirs, names in os.walk(root):
+        found += [Path(folder) / n for n in names if n.endswith(".json")]
+        if len(found) >= limit:
+            break
+    return found[:limit]
 
 
 def load_results(root: str | os.PathLike) -> list[CaseResult]:
-    """Every case result under ``root``; any unreadable one raises :class:`ResultFileError`."""
-    return [read_result(p) for p in result_files(root)]
+    """Every case result under ``root``; any unreadable one, or one that is not the case its
+    name says, raises :class:`ResultFileError`."""
+    return [read_result(p, root) for p in result_files(root)]
 
 
 def stored_result(root: str | os.PathLike, spec: CaseSpec) -> CaseResult | None:
     """The result stored for ``spec`` under ``root``, or None if there is none yet.
 
-    Raises :class:`ResultFileError` if a file is there but is not a readable result.
+    Raises :class:`ResultFileError` if the case's file cannot be written there (see
+    :func:`check_case_path`), or is there but is not a readable result of this very case
+    (a file holding another case is never taken as this one done).
     """
-    path = spec.path(root)
-    if not path.exists():
+    path = check_case_path(root, spec)
+    if not (path.exists() or path.is_symlink()):
         return None
-    return read_result(path)
+    result, recorded = _read(path, root)
+    assert recorded is not None  # read with its root
+    differing = [name for name in case_fields() if _identity_value(recorded, name) != _identity_value(spec, name)]
+    if differing:
+        name = differing[0]
+        raise ResultFileError(
+            f"{path} holds {name} {shown(_identity_value(recorded, name))}, "
+            f"not {shown(_identity_value(spec, name))} of the case {spec.key}"
+        )
+    return result
+
+
+def _identity_value(spec: CaseSpec, name: str) -> Any:
+    value = getattr(spec, name)
+    return to_jsonable(dict(value)) if isinstance(value, Mapping) else value
 
 
 @contextlib.contextmanager

@@ -1,4 +1,10 @@
-"""Shared pieces of the CLI: argument validation, error exits and report printing."""
+"""Shared pieces of the CLI: argument validation, error exits and report printing.
+
+Every path a command takes goes through :func:`path_arg` when parsed and through
+:func:`output_file`, :func:`output_dir`, :func:`input_dir` (the policy of
+:mod:`ioc_bench.fileio`) before any work; commands that solve demonstrations check the
+cache with :func:`check_cache` first.
+"""
 
 from __future__ import annotations
 
@@ -6,12 +12,14 @@ import argparse
 import contextlib
 import json
 import math
+import os
 import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NoReturn
 
-from ioc_bench.fileio import to_jsonable
+from ioc_bench.checks import load_json, one_line
+from ioc_bench.fileio import check_path_text, to_jsonable
 
 
 class UsageError(Exception):
@@ -19,8 +27,17 @@ class UsageError(Exception):
 
 
 def fail(message: str) -> NoReturn:
-    print(message, file=sys.stderr)
+    """Print ``message`` as one line (cut to a readable length) on stderr; exit with code 2."""
+    print(one_line(message), file=sys.stderr)
     raise SystemExit(2)
+
+
+def path_arg(text: str) -> Path:
+    """An argparse type: a path that is usable text (not empty, no NUL, names not too long)."""
+    try:
+        return check_path_text(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def positive_float(text: str) -> float:
@@ -59,7 +76,7 @@ def usage_errors(prefix: str = "") -> Iterator[None]:
     try:
         yield
     except ValueError as exc:
-        raise UsageError(prefix + " ".join(str(exc).split())) from None
+        raise UsageError(one_line(prefix + str(exc))) from None
 
 
 def output_file(path: Path, what: str = "--out") -> Path:
@@ -78,15 +95,43 @@ def output_dir(path: Path, what: str = "--out") -> Path:
         return check_output_dir(path)
 
 
+def input_dir(path: Path, what: str = "results directory") -> Path:
+    """``path`` if it is a folder to read (not under /proc, no link loop), else :class:`UsageError`."""
+    from ioc_bench.fileio import check_input_dir
+
+    with usage_errors():
+        return check_input_dir(path, what)
+
+
+def check_cache() -> Path:
+    """The demonstration cache folder if usable (``$IOC_BENCH_CACHE`` or the default), else
+    :class:`UsageError`: checked before the work, not when the first demonstration is saved."""
+    from ioc_bench.bench.demos import cache_dir
+    from ioc_bench.fileio import check_output_dir
+
+    if os.environ.get("IOC_BENCH_CACHE") == "":
+        raise UsageError("IOC_BENCH_CACHE is set but empty: unset it or name a folder for the demonstration cache")
+    with usage_errors("the demonstration cache (IOC_BENCH_CACHE or ~/.cache/ioc-bench) cannot be used: "):
+        return check_output_dir(cache_dir() / "demos")
+
+
 def json_object(text: str) -> dict:
-    """An argparse type: a JSON object (e.g. algorithm config overrides)."""
+    """An argparse type: a JSON object (e.g. algorithm config overrides); nesting bounded."""
     try:
-        value = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise argparse.ArgumentTypeError(f"not valid JSON ({exc})") from None
+        value = load_json(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
     if not isinstance(value, dict):
-        raise argparse.ArgumentTypeError(f"must be a JSON object, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a JSON object, got {one_line(repr(text), 80)}")
     return value
+
+
+def mujoco_log_to_stderr() -> None:
+    """Send MuJoCo's warnings to stderr: by default it also appends them to ``MUJOCO_LOG.TXT``
+    in the current folder, a file written outside --out."""
+    import mujoco
+
+    mujoco.set_mju_user_warning(lambda message: print(f"MuJoCo warning: {message}", file=sys.stderr))
 
 
 def add_json_flag(parser: argparse.ArgumentParser) -> None:

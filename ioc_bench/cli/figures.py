@@ -5,13 +5,21 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, print_json, usage_errors
+from ioc_bench.cli.common import (
+    add_json_flag,
+    input_dir,
+    output_dir,
+    output_file,
+    path_arg,
+    print_json,
+    usage_errors,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("figures", help="Table I and Figures 4-6 from benchmark results", description=__doc__)
-    p.add_argument("results", type=Path, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench run`)")
-    p.add_argument("--out", type=Path, default=Path("figures"), help="output directory (default figures/)")
+    p.add_argument("results", type=path_arg, metavar="RESULTS_DIR", help="directory of case results (`ioc-bench run`)")
+    p.add_argument("--out", type=path_arg, default=Path("figures"), help="output directory (default figures/)")
     p.add_argument(
         "--algorithm",
         action="append",
@@ -23,13 +31,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.viz.figures import make_figures, select_results
+    from ioc_bench.viz.figures import make_figures, output_names, select_results
 
-    if not args.results.is_dir():
-        raise UsageError(f"results directory not found: {args.results}")
+    input_dir(args.results)
     with usage_errors():  # checked up front (empty folder, unreadable result, unknown algorithm), so
-        select_results(args.results, args.algorithm)  # that errors while drawing stay real errors
+        results = select_results(args.results, args.algorithm)  # that errors while drawing stay real errors
+        names = output_names(results)
     output_dir(args.out)
+    for name in names.values():
+        output_file(args.out / name, "--out")
     written = make_figures(args.results, args.out, algorithms=args.algorithm)
     if args.json:
         print_json({name: str(path) for name, path in written.items()})

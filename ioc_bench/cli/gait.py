@@ -11,6 +11,7 @@ from ioc_bench.cli.common import (
     add_multistart_args,
     model_weights,
     output_file,
+    path_arg,
     print_json,
     progress_bar,
     solver_dict,
@@ -24,7 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--weights", type=weights_arg, default="nominal", help="weight set name or numbers hip,knee,dtau")
     add_model_arg(p)
     add_multistart_args(p, NOMINAL_SPEED)
-    p.add_argument("--out", type=Path, default=Path("demo.npz"), help="demonstration file to write (.npz)")
+    p.add_argument("--out", type=path_arg, default=Path("demo.npz"), help="demonstration file to write (.npz)")
     p.add_argument("--no-plot", action="store_true", help="skip the stick-figure plot")
     add_json_flag(p)
     p.set_defaults(run=run)

@@ -16,9 +16,11 @@ from ioc_bench.cli.common import (
     UsageError,
     add_json_flag,
     add_model_arg,
+    check_cache,
     json_object,
     model_weights,
     output_file,
+    path_arg,
     print_json,
     seed_int,
     usage_errors,
@@ -37,7 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=json_object, default={}, help=config_help)
     p.add_argument(
         "--out",
-        type=Path,
+        type=path_arg,
         default=Path("ioc_result.json"),
         help="result file (JSON; default ioc_result.json); plot beside it",
     )
@@ -60,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--out {args.out} names the JSON result; its plot is written beside it as .png")
     output_file(args.out)
     output_file(args.out.with_suffix(".png"), "--out (its plot)")
+    check_cache()
     if not args.json:
         print(
             f"running {args.algorithm} on {args.weights} weights of the {args.model}, {condition.name} condition, "

@@ -17,7 +17,17 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.cli.common import UsageError, add_json_flag, output_dir, positive_int, print_json, usage_errors
+from ioc_bench.cli.common import (
+    UsageError,
+    add_json_flag,
+    mujoco_log_to_stderr,
+    output_dir,
+    output_file,
+    path_arg,
+    positive_int,
+    print_json,
+    usage_errors,
+)
 
 #: MuJoCo models a demonstration can be replayed against.
 MODELS = ("demo", "nominal")
@@ -27,9 +37,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("replay", help="check demonstrations in MuJoCo (inverse dynamics, open/closed loop)")
     p.description = __doc__
     p.add_argument(
-        "demos", type=Path, nargs="+", metavar="DEMO.npz", help="demonstration file(s) written by 'ioc-bench gait'"
+        "demos", type=path_arg, nargs="+", metavar="DEMO.npz", help="demonstration file(s) written by 'ioc-bench gait'"
     )
-    p.add_argument("--out", type=Path, default=None, help="directory for the GIFs and plots (default: next to DEMO)")
+    p.add_argument(
+        "--out", type=path_arg, default=None, help="directory for the GIFs and plots (default: next to DEMO)"
+    )
     p.add_argument("--steps", type=positive_int, default=10, help="closed-loop steps to walk (default 10)")
     p.add_argument(
         "--model",
@@ -51,6 +63,10 @@ def run(args: argparse.Namespace) -> int:
             demos.append((path, Demonstration.load(path)))  # every problem with a file is a DemonstrationFileError
     if args.out is not None:
         output_dir(args.out)
+    for path, _demo in demos:  # every file the replays write, checked before the first replay
+        for suffix in ("png",) if args.no_video else ("png", "gif"):
+            output_file(_out_dir(path, args) / f"{path.stem}_replay.{suffix}", "--out" if args.out else "replay output")
+    mujoco_log_to_stderr()  # never a MUJOCO_LOG.TXT in the current folder
     results = [_replay_one(path, demo, args) for path, demo in demos]
     if not args.json and len(results) > 1:
         _print_summary(results)
@@ -67,7 +83,7 @@ def _replay_one(path: Path, demo: Any, args: argparse.Namespace) -> dict[str, An
         report = checks.replay(demo, steps=args.steps, params=params)
     except ValueError as exc:  # a loadable file whose step cannot be replayed
         raise UsageError(f"cannot replay {path}: {exc}") from None
-    out_dir = args.out if args.out is not None else path.parent
+    out_dir = _out_dir(path, args)
     stem = path.stem
     outputs = {
         "plot": str(plots.plot_comparison(demo, report.open_loop, report.closed_loop, out_dir / f"{stem}_replay.png"))
@@ -80,6 +96,10 @@ def _replay_one(path: Path, demo: Any, args: argparse.Namespace) -> dict[str, An
     else:
         _print_report(result)
     return result
+
+
+def _out_dir(path: Path, args: argparse.Namespace) -> Path:
+    return args.out if args.out is not None else path.parent
 
 
 def _verdict(passed: bool) -> str:

@@ -17,7 +17,10 @@ from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
 from ioc_bench.cli.common import (
     add_json_flag,
     add_model_arg,
+    check_cache,
     json_object,
+    output_dir,
+    path_arg,
     positive_float,
     positive_int,
     print_json,
@@ -27,17 +30,17 @@ from ioc_bench.cli.common import (
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a benchmark suite and print its leaderboard", description=__doc__)
-    p.add_argument("--suite", default="smoke", help="suite name (default smoke; see --list)")
+    p.add_argument("--suite", default=None, help="suite name (default smoke; see --list)")
     p.add_argument("--algorithm", default="log-barrier", help="registered algorithm (default log-barrier)")
     p.add_argument("--config", type=json_object, default={}, help="algorithm config overrides as JSON")
-    p.add_argument("--out", type=Path, default=Path("results"), help="results directory (default results/)")
+    p.add_argument("--out", type=path_arg, default=Path("results"), help="results directory (default results/)")
     p.add_argument("--workers", type=positive_int, default=None, help="parallel cases (default: all cores)")
     p.add_argument("--executor", choices=tuple(EXECUTORS), default="local", help="local processes or a Ray cluster")
     p.add_argument("--address", default=None, help="Ray cluster address, e.g. 127.0.0.1:6379 (default: a local Ray)")
     time_help = f"seconds per case (default {DEFAULT_TIME_LIMIT:g})"
     p.add_argument("--time-limit", type=positive_float, default=DEFAULT_TIME_LIMIT, help=time_help)
     p.add_argument("--keep-failed", action="store_true", help="do not retry cases whose stored result is a failure")
-    p.add_argument("--list", action="store_true", help="list the suites and exit")
+    p.add_argument("--list", action="store_true", help="list the suites (or the one --suite names) and exit")
     add_model_arg(p, default=None)
     add_json_flag(p)
     p.set_defaults(run=run)
@@ -51,12 +54,15 @@ def run(args: argparse.Namespace) -> int:
     from ioc_bench.cli.common import progress_bar
 
     if args.list:
-        for suite in SUITES.values():
-            n = len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds)
-            print(f"{suite.name:<14} {n:3d} cases  {suite.model:<8} {suite.description}")
-        return 0
+        with usage_errors():
+            suites = [get_suite(args.suite)] if args.suite is not None else list(SUITES.values())
+        return _list_suites(suites, args.json)
+    args.suite = args.suite or "smoke"
     with usage_errors():
         specs = get_suite(args.suite).cases(args.algorithm, args.config, model=args.model)
+    output_dir(args.out)
+    check_cache()
+    with usage_errors():
         plan = plan_run(
             specs, args.out, args.workers, args.time_limit, args.executor, args.address, keep_failed=args.keep_failed
         )
@@ -80,7 +86,8 @@ def run(args: argparse.Namespace) -> int:
                 f"\ninterrupted; finished cases are in {args.out}/ - rerun the same command to resume", file=sys.stderr
             )
             return 130
-    results = [read_result(s.path(args.out)) for s in specs if s.path(args.out).is_file()]
+    with usage_errors():
+        results = [read_result(s.path(args.out), args.out) for s in specs if s.path(args.out).is_file()]
     if args.json:
         print_json({"summary": summary.__dict__, "cells": [c.__dict__ for c in summarise(results)]})
     else:
@@ -94,4 +101,22 @@ def run(args: argparse.Namespace) -> int:
             hint = "" if not args.keep_failed else "; rerun without --keep-failed to retry them"
             say(f"{stored_failures} case(s) failed (listed in the leaderboard below){hint}")
         print(markdown(results, str(args.out)))
+    return 0
+
+
+def _list_suites(suites: list, as_json: bool) -> int:
+    rows = [
+        {
+            "name": suite.name,
+            "cases": len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds),
+            "model": suite.model,
+            "description": suite.description,
+        }
+        for suite in suites
+    ]
+    if as_json:
+        print_json({"suites": rows})
+    else:
+        for row in rows:
+            print(f"{row['name']:<14} {row['cases']:3d} cases  {row['model']:<8} {row['description']}")
     return 0

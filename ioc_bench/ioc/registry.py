@@ -110,6 +110,15 @@ def _load_plugin(ep: importlib.metadata.EntryPoint) -> bool:
         return False
     if _REGISTRY.get(ep.name) is cls:
         return True
+    if ep.name in _REGISTRY:
+        existing = _REGISTRY[ep.name]
+        warnings.warn(
+            f"IOC plugin {ep.name!r} ({ep.value}) skipped: name clash refused, {ep.name!r} is already "
+            f"registered by {existing.__module__}.{existing.__qualname__}",
+            PluginWarning,
+            stacklevel=3,
+        )
+        return False
     try:
         _add(ep.name, cls, origin=f"plugin {ep.value}")
     except AlgorithmError as exc:
@@ -118,9 +127,30 @@ def _load_plugin(ep: importlib.metadata.EntryPoint) -> bool:
     return True
 
 
+#: Registered names whose plugins have been looked at for a clash (once per process: the
+#: look costs a scan of the installed packages, some 5 ms).
+_CLASH_CHECKED: set[str] = set()
+
+
+def _refuse_clashes(name: str | None = None) -> None:
+    """Report plugins (all, or those called ``name``) named like an algorithm already
+    registered by another class (:class:`PluginWarning`): the registered one stays."""
+    if name is not None and name in _CLASH_CHECKED:
+        return
+    for ep in _plugin_entry_points():
+        if ep.name in _REGISTRY and (name is None or ep.name == name):
+            _load_plugin(ep)
+    _CLASH_CHECKED.update(_REGISTRY if name is None else (name,))
+
+
 def algorithms() -> list[str]:
-    """Names of every available algorithm: built-in, registered, and installed plugins."""
+    """Names of every available algorithm: built-in, registered, and installed plugins.
+
+    Plugins are listed without being imported; one named like a registered algorithm is
+    reported (:class:`PluginWarning`, "name clash refused") and not listed twice.
+    """
     _load_builtins()
+    _refuse_clashes()
     names = list(_REGISTRY)
     names += [ep.name for ep in _plugin_entry_points() if ep.name not in _REGISTRY]
     return names
@@ -131,13 +161,27 @@ def get_algorithm(name: str) -> type[IOCAlgorithm]:
     if not isinstance(name, str):
         raise AlgorithmError(f"an algorithm name must be a string, got {type(name).__name__}")
     _load_builtins()
-    if name not in _REGISTRY:
+    if name in _REGISTRY:
+        _refuse_clashes(name)
+    else:
         for ep in _plugin_entry_points():
             if ep.name == name and _load_plugin(ep):
                 break
     if name not in _REGISTRY:
-        raise AlgorithmError(f"unknown algorithm {name!r}; valid: {', '.join(algorithms())}")
+        shown = name if len(name) <= 60 else name[:57] + "..."
+        raise AlgorithmError(f"unknown algorithm {shown!r}; valid: {', '.join(_loadable())}")
     return _REGISTRY[name]
+
+
+def _loadable() -> list[str]:
+    """Names that load (plugins that fail to import or clash are left out), without warnings."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PluginWarning)
+        names = list(_REGISTRY)
+        for ep in _plugin_entry_points():
+            if ep.name not in _REGISTRY and _load_plugin(ep):
+                names.append(ep.name)
+    return names
 
 
 def make_algorithm(name: str, **config: Any) -> IOCAlgorithm:

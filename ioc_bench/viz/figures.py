@@ -29,7 +29,7 @@ from ioc_bench.bench.conditions import AXES, CONDITIONS
 from ioc_bench.bench.results import load_results, no_results_message, run_slug
 from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.fileio import atomic_write_text
+from ioc_bench.fileio import atomic_write_text, check_name, check_output_dir, check_output_file
 from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
 from ioc_bench.viz.convergence import draw_convergence
@@ -417,6 +417,31 @@ def select_results(results_dir: str | os.PathLike, algorithms: Sequence[str] | N
     return [r for r in results if not algorithms or r.algorithm in algorithms]
 
 
+def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
+    """Figure name -> file name of everything :func:`make_figures` writes for ``results``.
+
+    File names are built from checked identifiers only (an algorithm's name and config
+    digest, :func:`~ioc_bench.bench.results.run_slug`) and each must be a plain file name
+    (:func:`~ioc_bench.fileio.check_name`): content never names a path. Raises
+    ``ValueError`` otherwise.
+    """
+    slugged = _slugged(results)
+    names = {"table1": "table1.md"}
+    for alg in sorted({r.algorithm for r in slugged}):
+        for figure, conditions in (("figure4", ("ideal",)), ("figure5", FIGURE5_CONDITIONS)):
+            if any(r.algorithm == alg and r.condition in conditions for r in slugged):
+                names[f"{figure}_{alg}"] = check_name(f"{figure}_{alg}.png")
+    names["figure6"] = "figure6.png"
+    if robustness_curves(slugged):
+        names["robustness"] = "robustness.png"
+    return names
+
+
+def _slugged(results: Sequence[CaseResult]) -> list[CaseResult]:
+    """Results whose ``algorithm`` is their run's slug (one config of one algorithm), checked."""
+    return [replace(r, algorithm=check_name(run_slug(r), "algorithm name")) for r in results]
+
+
 def make_figures(
     results_dir: str | os.PathLike, out_dir: str | os.PathLike, algorithms: Sequence[str] | None = None
 ) -> dict[str, Path]:
@@ -424,23 +449,25 @@ def make_figures(
 
     Returns figure name -> path: ``table1`` (always, saying so if it has no data),
     ``figure4_<algorithm>`` / ``figure5_<algorithm>`` for algorithms with ideal /
-    imperfect-condition cases, and ``figure6``. Raises ``ValueError`` as
-    :func:`select_results` does.
+    imperfect-condition cases, and ``figure6`` (see :func:`output_names`). Raises
+    ``ValueError`` as :func:`select_results` does, and for an ``out_dir`` (or a file in it)
+    that cannot be written (:mod:`ioc_bench.fileio`'s checks), all before drawing.
     """
-    results = [replace(r, algorithm=run_slug(r)) for r in select_results(results_dir, algorithms)]
-    out = Path(out_dir)
-    written = {"table1": write_table1(results, out / "table1.md")}
-    for alg in sorted({r.algorithm for r in results}):
-        for name, plot, conditions in (
-            ("figure4", plot_figure4, ("ideal",)),
-            ("figure5", plot_figure5, FIGURE5_CONDITIONS),
-        ):
-            if any(r.algorithm == alg and r.condition in conditions for r in results):
-                written[f"{name}_{alg}"] = plot(results, alg, out / f"{name}_{alg}.png")
-    written["figure6"] = plot_figure6(results, out / "figure6.png")
-    if robustness_curves(results):
-        written["robustness"] = plot_robustness(results, out / "robustness.png")
-    return written
+    selected = select_results(results_dir, algorithms)
+    names = output_names(selected)
+    results = _slugged(selected)
+    out = check_output_dir(out_dir)
+    for name in names.values():
+        check_output_file(out / name)
+    written = {"table1": write_table1(results, out / names["table1"])}
+    for figure, plot in (("figure4", plot_figure4), ("figure5", plot_figure5)):
+        for alg in sorted({r.algorithm for r in results}):
+            if f"{figure}_{alg}" in names:
+                written[f"{figure}_{alg}"] = plot(results, alg, out / names[f"{figure}_{alg}"])
+    written["figure6"] = plot_figure6(results, out / names["figure6"])
+    if "robustness" in names:
+        written["robustness"] = plot_robustness(results, out / names["robustness"])
+    return dict(sorted(written.items(), key=lambda kv: list(names).index(kv[0])))
 
 
 def plot_robustness(results: Sequence[CaseResult], path: str | os.PathLike) -> Path:
@@ -472,6 +499,7 @@ __all__ = [
     "FIGURE5_CONDITIONS",
     "TABLE1_CONDITIONS",
     "make_figures",
+    "output_names",
     "plot_figure4",
     "plot_figure5",
     "plot_figure6",

@@ -6,6 +6,8 @@ import contextlib
 import dataclasses
 import json
 import math
+import os
+from pathlib import Path
 
 import pytest
 from hypothesis import given
@@ -19,8 +21,10 @@ from ioc_bench.bench.results import (
     load_results,
     parse_result,
     read_result,
+    recorded_spec,
     result_files,
     results_directory,
+    stored_result,
     write_result,
 )
 from ioc_bench.ioc.registry import AlgorithmError
@@ -93,7 +97,7 @@ def test_malformed_files_raise_result_file_error_naming_the_file(tmp_path, text,
     [
         ({"wall_time": "fast"}, "wall_time must be a number"),
         ({"seed": "0"}, "seed must be an integer"),
-        ({"seed": -3}, "seed must be >= 0"),
+        ({"seed": -3}, "seed must be a non-negative integer"),
         ({"weights": [0.5, 0.5]}, "weights has 2 entries for 3 features"),
         ({"features": "hip"}, "features must be a list of strings"),
         ({"history": [1, 2]}, "history must be a list of objects"),
@@ -217,3 +221,156 @@ def test_every_condition_of_every_suite_is_found_again_when_its_file_is_written(
     for condition in conditions:
         write_result(tmp_path, CaseSpec("log-barrier", "nominal", condition, 0), make_result(condition=condition))
     assert sorted(r.condition for r in load_results(tmp_path)) == conditions
+
+
+# -- a file is the case its name says (issue 24) -----------------------------------------------
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def test_the_result_files_in_the_repository_are_valid_cases():
+    """Real files (two algorithms, default and non-default configs, distractor features) pass."""
+    results = load_results(REPO / "docs" / "data" / "weight_floor")
+    assert len(results) == 16 and {r.algorithm for r in results} == {"log-barrier", "analytic-center"}
+
+
+def test_recorded_spec_is_the_case_the_content_says(make_result):
+    result = make_result(weight_set="penalize-knee", condition="noise", seed=4, config={"n_random": 3})
+    spec = recorded_spec(result)
+    assert spec == CaseSpec("log-barrier", "penalize-knee", "noise", 4, {"n_random": 3})
+    assert spec.key == "log-barrier/penalize-knee__noise__seed4__cfg" + spec.key[-8:]
+
+
+@pytest.mark.parametrize(
+    ("content", "named"),
+    [
+        ({"algorithm": "analytic-center"}, {}),
+        ({"seed": 1}, {}),
+        ({"weight_set": "penalize-hip"}, {}),
+        ({"condition": "noise"}, {}),
+        ({"config": {"n_random": 3}}, {}),
+        ({}, {"config": {"n_random": 3}}),
+    ],
+)
+def test_stored_result_is_never_another_case(tmp_path, make_result, content, named):
+    """(Issue 24: one algorithm's results under another's names were taken as done.)"""
+    spec = CaseSpec(**({"algorithm": "log-barrier", "weight_set": "nominal", "condition": "ideal", "seed": 0} | named))
+    other = make_result(**content)
+    spec.path(tmp_path).parent.mkdir(parents=True)
+    spec.path(tmp_path).write_text(json.dumps(other.to_dict()))
+    with pytest.raises(ResultFileError, match=r"holds the case .*, not the one its name says") as exc:
+        stored_result(tmp_path, spec)
+    assert str(spec.path(tmp_path)) in str(exc.value) and "\n" not in str(exc.value)
+    with pytest.raises(ResultFileError, match="not the one its name says"):
+        load_results(tmp_path)
+
+
+def test_a_file_with_its_own_case_is_done(tmp_path, make_result):
+    spec = CaseSpec("log-barrier", "nominal", "ideal", 0, {"n_random": 3})
+    write_result(tmp_path, spec, make_result(config={"n_random": 3}))
+    assert stored_result(tmp_path, spec) is not None
+    assert stored_result(tmp_path, CaseSpec("log-barrier", "nominal", "ideal", 1)) is None
+
+
+def test_a_case_key_or_case_config_that_disagrees_with_the_content_is_refused(tmp_path, make_result):
+    spec = CaseSpec("log-barrier", "nominal", "ideal", 0)
+    path = write_result(tmp_path, spec, make_result())
+    data = json.loads(path.read_text())
+    path.write_text(json.dumps(data | {"case_key": "log-barrier/nominal__ideal__seed9"}))
+    with pytest.raises(ResultFileError, match="records case_key"):
+        load_results(tmp_path)
+    path.write_text(json.dumps(data | {"case_config": {"n_random": 3}}))
+    with pytest.raises(ResultFileError, match=r"case_config .* is not its config's difference"):
+        load_results(tmp_path)
+
+
+def test_a_case_folder_leading_out_of_the_results_is_refused_before_and_at_writing(tmp_path, make_result):
+    """(Issue 24: run followed a linked algorithm folder and wrote outside --out.)"""
+    root, outside = tmp_path / "results", tmp_path / "outside"
+    root.mkdir()
+    outside.mkdir()
+    (root / "log-barrier").symlink_to(outside)
+    spec = CaseSpec("log-barrier", "nominal", "ideal", 0)
+    with pytest.raises(ResultFileError, match="leads out of"):
+        stored_result(root, spec)  # what plan_run asks of every case before any work
+    with pytest.raises(ResultFileError, match="leads out of"):
+        write_result(root, spec, make_result())
+    assert not any(outside.iterdir())
+    (outside / spec.path(root).name).write_text(json.dumps(make_result().to_dict()))
+    with pytest.raises(ResultFileError, match="leads out of"):
+        load_results(root)
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda p: p.symlink_to("/etc/passwd"), "is a symbolic link"),
+        (lambda p: p.symlink_to("/dev/zero"), "is a symbolic link"),
+        (lambda p: os.mkfifo(p), "is a FIFO"),
+        (lambda p: p.mkdir(), "is a directory"),
+    ],
+)
+def test_result_names_that_are_not_regular_files_are_refused_by_name(tmp_path, make, message):
+    """(Issue 24: links to /etc/passwd and /dev/zero were read, a FIFO blocked the reader.)"""
+    path = CaseSpec("log-barrier", "nominal", "ideal", 0).path(tmp_path)
+    path.parent.mkdir()
+    make(path)
+    with pytest.raises(ResultFileError, match=message) as exc:
+        load_results(tmp_path)
+    assert str(path) in str(exc.value)
+
+
+def test_a_case_name_too_long_for_the_file_system_is_refused_before_the_run(tmp_path):
+    spec = CaseSpec("log-barrier", ",".join(["1.000000000000000"] * 2 + ["1" + "0" * 300]), "ideal", 0)
+    with pytest.raises(ResultFileError, match="over the 255 a file name may have"):
+        stored_result(tmp_path, spec)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"algorithm": "x/../../ESCAPED"}, "invalid algorithm name"),
+        ({"weight_set": "nope"}, "unknown weight set"),
+        ({"weight_set": "0,0,0"}, "must not all be zero"),
+        ({"condition": "nope"}, "unknown condition"),
+        ({"features": ["hip", "hip", "dtau"]}, "distinct known features"),
+        ({"features": ["hip", "knee", "bogus"]}, "distinct known features"),
+        ({"features": ["knee", "hip", "dtau"]}, "are not the ideal condition's"),
+        ({"true_weights": [0.0, 0.0, 0.0]}, "are not the truth of weight set"),
+        ({"true_weights": [-0.58, 0.58, 0.58]}, "are not the truth of weight set"),
+        ({"weights": [0.0, 0.0, 0.0]}, "not all zero"),
+        ({"weights": [-1.0, 1.0, 1.0]}, "non-negative"),
+        ({"weights": [None, 1.0, 1.0]}, "finite"),
+        ({"weight_error": -0.1}, "weight_error must be a number from 0 to 1"),
+        ({"weight_error": None}, "weight_error must be a number from 0 to 1"),
+        ({"trajectory_error": -1}, "trajectory_error must be a non-negative"),
+        ({"found_trajectory_error": -1}, "found_trajectory_error must be a non-negative"),
+        ({"wall_time": -1}, "wall_time must be a number from 0 to"),
+        ({"wall_time": None}, "wall_time must be a number from 0 to"),
+        ({"wall_time": 1e30}, "wall_time must be a number from 0 to"),
+        ({"demo_speed": -0.27}, "demo_speed must be a non-negative"),
+        ({"n_solves": -1}, "n_solves must be between 0 and"),
+        ({"n_solves": 10**30}, "n_solves must be between 0 and"),
+        ({"chosen_iteration": 3}, "chosen_iteration must index the history"),
+        ({"chosen_iteration": -1}, "chosen_iteration must index the history"),
+        ({"status": "a\nb"}, "status must be one line"),
+        ({"status": ""}, "status must be one line"),
+        ({"status": "x" * 501}, "status must be one line"),
+        ({"demo_features": {"bogus": 1.0}}, "demo_features must map known features"),
+        ({"wall_time": 10**400}, "wall_time must be a number"),
+    ],
+)
+def test_out_of_range_values_are_refused(make_result, change, message):
+    """(Issue 24: negative errors, zero truths, unknown names and 10**30 solves were rendered as valid.)"""
+    with pytest.raises(ValueError, match=message) as exc:
+        parse_result(make_result().to_dict() | change)
+    assert "\n" not in str(exc.value) and len(str(exc.value)) < 400
+
+
+def test_a_failed_case_may_lack_its_estimate_and_a_huge_seed_is_a_seed(tmp_path, make_result):
+    failed = make_result(failed=True)
+    assert parse_result(json.loads(json.dumps(failed.to_dict()))).failed
+    seed = 10**30  # seeds of any size are fine (NumPy takes them)
+    spec = CaseSpec("log-barrier", "nominal", "ideal", seed)
+    write_result(tmp_path, spec, make_result(seed=seed))
+    assert stored_result(tmp_path, spec).seed == seed

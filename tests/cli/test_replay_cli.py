@@ -109,3 +109,45 @@ def test_a_bad_file_among_good_ones_stops_before_any_check(demo_file, tmp_path, 
     err = _bad_exit(["replay", demo_file, str(tmp_path / "nope.npz")], capsys)
     assert "not found" in err
     assert "replay " not in capsys.readouterr().out
+
+
+def test_mujoco_warnings_go_to_stderr_not_to_a_log_file(demo_file, tmp_path, capsys, monkeypatch):
+    """(Issue 24: replay left MUJOCO_LOG.TXT in the current folder, outside --out.)
+
+    MuJoCo appends every warning to ``MUJOCO_LOG.TXT`` in the current folder unless a
+    warning handler is set; one is forced here while the replay runs.
+    """
+    import mujoco
+
+    import envs.checks as checks
+
+    real = checks.replay
+
+    def replay_after_a_warning(*args, **kwargs):
+        model = mujoco.MjModel.from_xml_string(
+            "<mujoco><worldbody><body><freejoint/><geom size='.1'/></body></worldbody></mujoco>"
+        )
+        data = mujoco.MjData(model)
+        data.qpos[0] = np.nan
+        mujoco.mj_step(model, data)  # "Nan, Inf or huge value in QPOS": MuJoCo warns
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(checks, "replay", replay_after_a_warning)
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    monkeypatch.chdir(cwd)
+    try:
+        main(["replay", demo_file, "--out", str(tmp_path / "out"), "--no-video", "--steps", "1", "--json"])
+    finally:
+        mujoco.set_mju_user_warning(None)
+    assert not any(cwd.iterdir()), list(cwd.iterdir())
+    assert "MuJoCo warning: Nan, Inf or huge value in QPOS" in capsys.readouterr().err
+
+
+def test_every_output_file_is_checked_before_the_first_replay(demo_file, tmp_path, capsys, monkeypatch):
+    import envs.checks as checks
+
+    monkeypatch.setattr(checks, "replay", lambda *a, **k: pytest.fail("replayed before the outputs were checked"))
+    (tmp_path / "nominal_replay.gif").mkdir()
+    err = _bad_exit(["replay", demo_file, "--out", str(tmp_path)], capsys)
+    assert "nominal_replay.gif is a directory" in err

@@ -256,3 +256,23 @@ def test_two_configs_of_one_algorithm_are_drawn_apart(tmp_path):
         write_result(tmp_path / "res", spec, case)
     written = figures.make_figures(tmp_path / "res", tmp_path / "figs")
     assert {"figure4_log-barrier", "figure4_log-barrier__cfg05519c9f"} <= set(written)
+
+
+def test_output_names_come_from_checked_identifiers_only(tmp_path):
+    """(Issue 24: an algorithm field ``x/../../ESCAPED`` made figures write a PNG outside --out.)"""
+    good = figures.output_names(synthetic_results())
+    assert good["figure4_alpha"] == "figure4_alpha.png" and "/" not in "".join(good.values())
+    for bad in ("x/../../ESCAPED", "../x", ".hidden", "a b"):
+        escaping = dataclasses.replace(make_case("alpha", "nominal", "ideal"), algorithm=bad)
+        with pytest.raises(ValueError, match="unsafe algorithm name"):
+            figures.output_names([escaping])
+    assert not any(tmp_path.iterdir())
+
+
+def test_every_output_is_checked_before_drawing(results_dir, tmp_path):
+    (tmp_path / "figure6.png").mkdir()
+    with pytest.raises(ValueError, match=r"figure6\.png is a directory"):
+        figures.make_figures(results_dir, tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["figure6.png"]  # not even table1.md was written
+    with pytest.raises(ValueError, match="empty string"):
+        figures.make_figures(results_dir, "")
