@@ -123,11 +123,12 @@ BASIN_STARTS = 8
 def basins(subjects: list[str], out: Path) -> None:
     """Per start of an 8-start multi-start (starts are nested: the first 2 and 4 are those
     of a 2- and 4-start solve): status, objective, fit. Does a cheaper optimum fit better?"""
+    from ioc_bench.trajopt.solver import StartPoint, get_solver
+
     from ioc_bench.features import model_features
     from ioc_bench.model.walker import WALKER
     from ioc_bench.trajopt.initial_guess import multistart_guesses
     from ioc_bench.trajopt.multistart import solve_starts
-    from ioc_bench.trajopt.solver import StartPoint, get_solver
     from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 
     results = json.loads(out.read_text())
@@ -345,12 +346,13 @@ def figure(path: Path, subject: str, out: Path) -> None:
 def basin_figure(out: Path, subject: str = "WBDS01", speed: str = "T05", weights=(1.0, 4.0, 0.0)) -> None:
     """Starts 0 and 2 of the basin study re-solved: the human-like optimum and the cheaper
     one that lands on a bent knee."""
+    from ioc_bench.trajopt.solver import StartPoint, get_solver
+
     from ioc_bench.features import model_features
     from ioc_bench.human.figures import plot_human_fits
     from ioc_bench.model.walker import WALKER
     from ioc_bench.trajopt.initial_guess import multistart_guesses
     from ioc_bench.trajopt.multistart import solve_starts
-    from ioc_bench.trajopt.solver import StartPoint, get_solver
     from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 
     step = human_step(WbdsData().trial(subject, speed))

@@ -65,3 +65,21 @@ def test_track_demonstration_example(nominal_demo, tmp_path, capsys):
         assert gif.n_frames > 20 and gif.size == (480, 360)
     out = capsys.readouterr().out
     assert out.count("3 steps, tracking error RMS") == 4
+
+
+REGION_EXAMPLE = EXAMPLE.parent / "region_algorithm.py"
+
+
+def test_region_example_reports_a_checked_region(penalize_knee_cached, monkeypatch):
+    """The bootstrap plugin's region passes the contract and is recorded with the case."""
+    from ioc_bench.ioc import registry
+
+    monkeypatch.setattr(registry, "_REGISTRY", dict(registry._REGISTRY))
+    spec = importlib.util.spec_from_file_location("region_algorithm_example", REGION_EXAMPLE)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    result = ioc_bench.run_case("bootstrap-kkt", "penalize-knee", "ideal", seed=0, config={"resamples": 3})
+    assert not result.failed, result.reason
+    region = result.uncertainty
+    assert region["method"].startswith("parametric bootstrap") and result.covered is not None
+    assert all(lo <= w <= hi for lo, w, hi in zip(region["lower"], result.weights, region["upper"]))

@@ -27,7 +27,7 @@ import numpy as np
 
 from ioc_bench._version import __version__
 from ioc_bench.bench.conditions import Condition, get_condition
-from ioc_bench.bench.demos import DemoRequest, demonstration
+from ioc_bench.bench.demos import DemoRequest, ReferenceCache, check_cache, demonstration
 from ioc_bench.bench.observe import observe
 from ioc_bench.bench.scoring import unit, weight_error
 from ioc_bench.bench.transfer import transfer, transfer_task
@@ -37,7 +37,7 @@ from ioc_bench.features import cost_features
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.contract import check_result
 from ioc_bench.ioc.oracle import OracleSolution
-from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
+from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import (
     AlgorithmError,
     canonical_config,
@@ -201,6 +201,8 @@ class CaseResult:
         transfer: the estimated weights' optimum at the other speed against the true one
             there (:class:`~ioc_bench.bench.transfer.Transfer` as a dict), None if the case
             has no other speed or failed.
+        scoring_time: seconds spent scoring after the algorithm (re-solving its weights'
+            step, the transfer solve), not counted in ``wall_time``.
     """
 
     algorithm: str
@@ -230,6 +232,7 @@ class CaseResult:
     uncertainty: dict[str, Any] | None = None
     covered: bool | None = None
     transfer: dict[str, Any] | None = None
+    scoring_time: float = 0.0
     version: str = __version__
 
     @property
@@ -304,6 +307,8 @@ def run_spec(
     params = _params(spec, params, demo)
     requests = spec.demo_requests(params)
     given = [demo, *trial_demos] if demo is not None else list(trial_demos)
+    if len(given) < len(requests) or (spec.transfer_request(params) is not None and transfer_demo is None):
+        check_cache()  # demonstrations will be read or saved there: refuse an unusable cache before any solve
     demos = [given[k] if k < len(given) else demonstration(r) for k, r in enumerate(requests)]
     for request, d in zip(requests, given):
         _check_demo(spec, request, d)
@@ -328,18 +333,18 @@ def run_spec(
     except Exception as exc:  # the algorithm's fault is a recorded result, not a crash
         last = traceback.extract_tb(exc.__traceback__)[-1]
         return _failed(base, f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})", problem, t0)
-    wall = time.perf_counter() - t0
+    wall = _elapsed(problem, t0)
     reason = check_result(result, problem.n_features)
     if reason:
         return _failed(base, reason, problem, t0)
+    truth = None if other is None else (transfer_demo if transfer_demo is not None else demonstration(other))
+    t1 = time.perf_counter()
     scored = _score(base, result, problem, wall)
-    if other is None:
-        return scored
-    truth = transfer_demo if transfer_demo is not None else demonstration(other)
-    if not truth.solver.success:
-        return replace(scored, transfer={"speed": other.task.speed, "status": "no demonstration"})
-    moved = transfer(np.array(scored.weights), spec.features, truth)
-    return replace(scored, transfer=moved.to_dict())
+    if truth is not None and not truth.solver.success:
+        scored = replace(scored, transfer={"speed": other.task.speed, "status": "no demonstration"})
+    elif truth is not None:
+        scored = replace(scored, transfer=transfer(np.array(scored.weights), spec.features, truth).to_dict())
+    return replace(scored, scoring_time=time.perf_counter() - t1)
 
 
 def _problem(spec: CaseSpec, params: GaitParams, demos: Sequence[Demonstration]) -> IOCProblem | MultiTrialProblem:
@@ -351,7 +356,17 @@ def _problem(spec: CaseSpec, params: GaitParams, demos: Sequence[Demonstration])
         rng = np.random.default_rng([spec.seed, NOISE_STREAM] + ([k] if k else []))
         observed = observe(d.trajectory, cond.noise, rng, cond.torques)
         ioc_params, task = cond.ioc_params(params), cond.ioc_task(k)
-        trials.append(IOCProblem(observed, spec.features, ioc_params, task, seed=spec.seed, model=spec.gait_model))
+        trials.append(
+            IOCProblem(
+                observed,
+                spec.features,
+                ioc_params,
+                task,
+                seed=spec.seed,
+                model=spec.gait_model,
+                reference_store=ReferenceCache(),
+            )
+        )
     return trials[0] if len(trials) == 1 else MultiTrialProblem(trials)
 
 
@@ -465,6 +480,12 @@ def _found(result: IOCResult) -> float | None:
     return error if np.isfinite(error) else None
 
 
+def _elapsed(problem: IOCProblem | MultiTrialProblem, t0: float) -> float:
+    """Seconds since ``t0``, plus those of references the problem took from the store
+    (computed by an earlier case), so a case's time does not depend on what ran before."""
+    return time.perf_counter() - t0 + problem.stats.seconds[REUSED_REFERENCE]
+
+
 def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: float | None = None) -> CaseResult:
     n = len(base["features"])
     return CaseResult(
@@ -475,7 +496,7 @@ def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: floa
         weight_error=float("nan"),
         trajectory_error=float("nan"),
         n_solves=problem.stats.forward_solves if problem else 0,
-        wall_time=time.perf_counter() - t0 if t0 is not None else 0.0,
+        wall_time=_elapsed(problem, t0) if t0 is not None and problem is not None else 0.0,
         oracle=problem.stats.to_dict() if problem else {},
     )
 

@@ -8,9 +8,12 @@ and of :data:`SOLVER_REVISION`, and written atomically.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import io
 import json
 import os
+import zipfile
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -19,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.demo import Demonstration, DemonstrationFileError
+from ioc_bench.fileio import check_output_dir
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.task import Task
@@ -32,7 +36,22 @@ DEMO_SEED = 0
 
 
 def cache_dir() -> Path:
-    return Path(os.environ.get("IOC_BENCH_CACHE", Path.home() / ".cache" / "ioc-bench"))
+    """``$IOC_BENCH_CACHE``, or ``~/.cache/ioc-bench``; ``ValueError`` if the variable is set but empty."""
+    value = os.environ.get("IOC_BENCH_CACHE")
+    if value == "":
+        raise ValueError("IOC_BENCH_CACHE is set but empty: unset it or name a folder for the demonstration cache")
+    return Path(value) if value is not None else Path.home() / ".cache" / "ioc-bench"
+
+
+def check_cache() -> Path:
+    """The cache's folder of demonstrations if it can be used, else ``ValueError`` (one line):
+    checked before the work, not when the first demonstration is saved."""
+    try:
+        return check_output_dir(cache_dir() / "demos")
+    except ValueError as exc:
+        raise ValueError(
+            f"the demonstration cache (IOC_BENCH_CACHE or ~/.cache/ioc-bench) cannot be used: {exc}"
+        ) from None
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,3 +141,57 @@ def demonstration(
     if use_cache:
         demo.save(path)
     return demo
+
+
+#: Largest reference file read back (a walker's is about 50 kB).
+MAX_REFERENCE_BYTES = 10_000_000
+
+
+class ReferenceCache:
+    """The feasible references of observations, kept on disk beside the demonstrations.
+
+    Every algorithm of a suite, and the scoring of every case, start from the reference of
+    the same observation (its projection, smoothed for a noisy one: up to five solves).
+    Kept under ``<cache>/references/<key>.npz`` (the key hashes the observation, model,
+    parameters and task, and :data:`SOLVER_REVISION`), written atomically; an unreadable
+    entry is treated as absent.
+    """
+
+    def __init__(self, root: Path | None = None):
+        self.root = (root or cache_dir()) / "references"
+
+    def _path(self, key: str) -> Path:
+        return self.root / f"{key}-r{SOLVER_REVISION}.npz"
+
+    def get(self, key: str):
+        from ioc_bench.fileio import read_bytes
+        from ioc_bench.trajopt.solution import SolverReport, StartPoint
+
+        path = self._path(key)
+        if not path.is_file():
+            return None
+        try:
+            with np.load(io.BytesIO(read_bytes(path, MAX_REFERENCE_BYTES, "reference")), allow_pickle=False) as f:
+                arrays = {k: f[k] for k in ("x", "lam_x", "lam_g", "report", "solves", "seconds")}
+            report = SolverReport(**json.loads(str(arrays["report"])))
+            point = StartPoint(*(np.asarray(arrays[k], dtype=float) for k in ("x", "lam_x", "lam_g")))
+            return point, report, int(arrays["solves"]), float(arrays["seconds"])
+        except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile):
+            return None
+
+    def put(self, key: str, point, report, solves: int, seconds: float) -> None:
+        from ioc_bench.fileio import atomic_write
+
+        def write(f) -> None:
+            np.savez(
+                f,
+                x=point.x,
+                lam_x=point.lam_x,
+                lam_g=point.lam_g,
+                report=np.array(json.dumps(report.to_dict())),
+                solves=np.array(solves),
+                seconds=np.array(seconds),
+            )
+
+        with contextlib.suppress(OSError, ValueError):  # a reference that cannot be kept is only recomputed
+            atomic_write(self._path(key), write)

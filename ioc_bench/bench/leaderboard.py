@@ -31,8 +31,10 @@ from ioc_bench.bench.conditions import CONDITIONS
 from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
+from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_many, check_output_dir, check_output_file, json_text
-from ioc_bench.weights import WEIGHT_SETS
+from ioc_bench.model.catalogue import MODELS, get_model
+from ioc_bench.weights import WEIGHT_SETS, weight_sets
 
 #: The files a leaderboard is written as, in its output folder.
 FILES = ("README.md", "leaderboard.json")
@@ -63,6 +65,7 @@ class Cell:
     config: dict
     condition: str
     cases: int
+    model: str
     failures: int
     seeds: tuple[int, ...]
     weight_error: float
@@ -73,6 +76,12 @@ class Cell:
     forward_solves: float
     largest_recovered: int
     largest_checked: int
+    regions: int
+    covered: int
+    region_width: float
+    transfers: int
+    transfer_error: float
+    transfer_excess: float
 
 
 def _mean(values: Sequence[float]) -> float:
@@ -92,22 +101,28 @@ def penalised_is_largest(result: CaseResult) -> bool | None:
 
 def row_condition(result: CaseResult) -> str:
     """The row a result belongs to: its condition, apart for weight sets other than the
-    paper's four (the ``unseen`` suite), so a row never mixes the two designs."""
-    return result.condition if result.weight_set in WEIGHT_SETS else f"{result.condition}, other weight sets"
+    model's named ones (the ``unseen`` suite), so a row never mixes the two designs."""
+    named = weight_sets(cost_features(get_model(result.model))) if result.model in MODELS else WEIGHT_SETS
+    return result.condition if result.weight_set in named else f"{result.condition}, other weight sets"
 
 
 def summarise(results: Sequence[CaseResult]) -> list[Cell]:
-    """One :class:`Cell` per (algorithm, config, condition), conditions in catalogue order."""
-    groups: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
+    """One :class:`Cell` per (model, algorithm, config, condition), conditions in catalogue order."""
+    groups: dict[tuple[str, str, str], list[CaseResult]] = defaultdict(list)
     for r in results:
-        groups[(run_label(r), row_condition(r))].append(r)
+        groups[(r.model, run_label(r), row_condition(r))].append(r)
     order = {c: i for i, c in enumerate(CONDITIONS)}
+    models = {m: i for i, m in enumerate(MODELS)}
     cells = []
-    for (label, cond), rs in sorted(groups.items(), key=lambda kv: (kv[0][0], order.get(kv[0][1], 99), kv[0][1])):
+    for (model, label, cond), rs in sorted(
+        groups.items(), key=lambda kv: (models.get(kv[0][0], 99), kv[0][0], kv[0][1], order.get(kv[0][2], 99), kv[0][2])
+    ):
         ok = [r for r in rs if not r.failed]
         strata = _by_weight_set(ok)  # successful cases only: failures are not replicates
         enough = bool(strata) and min(len({r.seed for r in g}) for g in strata) >= MIN_SEEDS_FOR_CI
         checks = [c for c in (penalised_is_largest(r) for r in rs) if c is not None]
+        regions = [r for r in ok if r.uncertainty is not None]
+        moved = [r.transfer for r in ok if r.transfer and _scored_transfer(r.transfer)]
         cells.append(
             Cell(
                 algorithm=rs[0].algorithm,
@@ -116,6 +131,7 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 config=result_config(rs[0]),
                 condition=cond,
                 cases=len(rs),
+                model=model,
                 failures=len(rs) - len(ok),
                 seeds=tuple(sorted({r.seed for r in rs})),
                 weight_error=_mean([r.weight_error for r in ok]),
@@ -128,9 +144,25 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 forward_solves=_mean([r.n_solves for r in rs]),
                 largest_recovered=sum(checks),
                 largest_checked=len(checks),
+                regions=len(regions),
+                covered=sum(bool(r.covered) for r in regions),
+                region_width=_mean([_width(r.uncertainty) for r in regions]),
+                transfers=len(moved),
+                transfer_error=_mean([t["trajectory_error"] for t in moved]),
+                transfer_excess=_mean([t["excess_cost"] for t in moved]),
             )
         )
     return cells
+
+
+def _scored_transfer(transfer: dict) -> bool:
+    """Whether a transfer was solved and scored (its two scores are numbers)."""
+    values = [transfer.get(k) for k in ("trajectory_error", "excess_cost")]
+    return all(isinstance(v, (int, float)) and np.isfinite(v) for v in values)
+
+
+def _width(region: dict) -> float:
+    return float(np.mean(np.subtract(region["upper"], region["lower"])))
 
 
 def versions() -> dict[str, str]:
@@ -191,20 +223,69 @@ def markdown(results: Sequence[CaseResult], source: str = "results/") -> str:
         "",
         _configs_line(cells, results),
         "",
-        "| algorithm | family | condition | cases | weight error | 95 % CI | trajectory error (re-solved / found) "
-        "| time (s) | forward solves | penalised weight largest | failures |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "**Confidence and transfer.** *Region*: how many successful cases' 95 % weight regions (the algorithm's "
+        "own; `-` if it reports none) hold the true weights, of how many, and their mean width (mean over the "
+        "weights of upper - lower). *Transfer*: the estimated weights' optimum at the other speed (0.34 for a "
+        "0.27 demonstration, 0.27 for 0.34) under the true model, against the true weights' optimum there: "
+        "the paper's trajectory error / the excess cost under the true weights (relative); `-` where no other "
+        "speed is defined (the multi-trial conditions observe both).",
+        "",
+        "| model | algorithm | family | condition | cases | weight error | 95 % CI | trajectory error (re-solved / "
+        "found) | region: covers / width | transfer: traj. error / excess cost | time (s) | forward solves "
+        "| penalised weight largest | failures |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in cells:
         ci = "" if c.weight_error_ci is None else f"[{_fmt(c.weight_error_ci[0])}, {_fmt(c.weight_error_ci[1])}]"
         largest = f"{c.largest_recovered}/{c.largest_checked}" if c.largest_checked else "-"
+        region = f"{c.covered}/{c.regions} / {_fmt(c.region_width, 3)}" if c.regions else "-"
+        moved = f"{_sci(c.transfer_error)} / {_sci(c.transfer_excess)}" if c.transfers else "-"
         lines.append(
-            f"| {c.label} | {c.family or '-'} | {c.condition} | {c.cases} | {_fmt(c.weight_error)} | {ci} | "
-            f"{_sci(c.trajectory_error)} / {_sci(c.found_trajectory_error)} | {c.wall_time:.1f} | "
-            f"{c.forward_solves:.1f} | {largest} | {c.failures} |"
+            f"| {c.model} | {c.label} | {c.family or '-'} | {c.condition} | {c.cases} | {_fmt(c.weight_error)} "
+            f"| {ci} | {_sci(c.trajectory_error)} / {_sci(c.found_trajectory_error)} | {region} | {moved} | "
+            f"{c.wall_time:.1f} | {c.forward_solves:.1f} | {largest} | {c.failures} |"
         )
-    lines += ["", *_robustness(results), "", *_paper_comparison(cells), "", *_case_table(results)]
+    lines += [
+        "",
+        *_calibration(cells),
+        "",
+        *_robustness(results),
+        "",
+        *_paper_comparison(cells),
+        "",
+        *_case_table(results),
+    ]
     return "\n".join(lines) + "\n"
+
+
+def _calibration(cells: Sequence[Cell]) -> list[str]:
+    """How well each algorithm's 95 % regions cover the truth, over every successful case."""
+    by: dict[tuple[str, str], list[Cell]] = defaultdict(list)
+    for c in cells:
+        by[(c.model, c.label)].append(c)
+    lines = [
+        "## Calibration of the 95 % weight regions",
+        "",
+        "Share of successful cases whose region holds the true weights (a calibrated 95 % region: about 0.95), "
+        "with the number of cases behind it, and the mean width; noise conditions apart.",
+        "",
+        "| model | algorithm | all conditions | noise conditions | mean width |",
+        "|---|---|---|---|---|",
+    ]
+    for (model, label), cs in by.items():
+        regions = sum(c.regions for c in cs)
+        if not regions:
+            lines.append(f"| {model} | {label} | reports no region | - | - |")
+            continue
+        noisy = [c for c in cs if "noise" in c.condition]
+        n_noisy = sum(c.regions for c in noisy)
+        share = lambda cov, n: f"{cov / n:.2f} ({cov}/{n})" if n else "-"  # noqa: E731
+        width = _mean([c.region_width for c in cs if c.regions])
+        lines.append(
+            f"| {model} | {label} | {share(sum(c.covered for c in cs), regions)} | "
+            f"{share(sum(c.covered for c in noisy), n_noisy)} | {_fmt(width, 3)} |"
+        )
+    return lines
 
 
 def _robustness(results: Sequence[CaseResult]) -> list[str]:
@@ -237,7 +318,8 @@ def _paper_comparison(cells: Sequence[Cell]) -> list[str]:
     ]
     by_algo: dict[str, list[Cell]] = defaultdict(list)
     for c in cells:
-        by_algo[c.label].append(c)
+        if c.model == "walker":  # the paper's model
+            by_algo[c.label].append(c)
     for algo, cs in by_algo.items():
         worst = max((c for c in cs if np.isfinite(c.weight_error)), key=lambda c: c.weight_error, default=None)
         for c in cs:
@@ -254,21 +336,22 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
     lines = [
         "## Every case",
         "",
-        "| algorithm | weight set | condition | seed | status | estimated weights (features) | weight error "
-        "| trajectory error | time (s) | solves |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| model | algorithm | weight set | condition | seed | status | estimated weights (features) | weight error "
+        "| trajectory error | region holds truth | time (s) | solves | reason (failures) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     order = {c: i for i, c in enumerate(CONDITIONS)}
     labelled = sorted(
         ((run_label(r), r) for r in results),
-        key=lambda lr: (lr[0], order.get(lr[1].condition, 99), lr[1].weight_set, lr[1].seed),
+        key=lambda lr: (lr[1].model, lr[0], order.get(lr[1].condition, 99), lr[1].weight_set, lr[1].seed),
     )
     for label, r in labelled:
-        w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else _cell_text(r.reason)
+        w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else "-"
+        covered = "-" if r.covered is None else ("yes" if r.covered else "no")
         lines.append(
-            f"| {label} | {r.weight_set} | {r.condition} | {r.seed} | {_cell_text(r.status)} | "
-            f"{w} ({', '.join(r.features)}) "
-            f"| {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {r.wall_time:.1f} | {r.n_solves} |"
+            f"| {r.model} | {label} | {r.weight_set} | {r.condition} | {r.seed} | {_cell_text(r.status)} | "
+            f"{w} ({', '.join(r.features)}) | {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {covered} | "
+            f"{r.wall_time:.1f} | {r.n_solves} | {_cell_text(r.reason) if r.failed else ''} |"
         )
     return lines
 

@@ -45,7 +45,8 @@ from ioc_bench.fileio import (
     remove_temporaries,
     to_jsonable,
 )
-from ioc_bench.ioc.contract import MAX_STATUS
+from ioc_bench.ioc.algorithm import WeightRegion
+from ioc_bench.ioc.contract import MAX_STATUS, check_region
 from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
@@ -270,6 +271,8 @@ def check_result(result: CaseResult) -> None:
         )
     _check_estimate(result)
     _check_numbers(result)
+    _check_region(result)
+    _check_transfer(result)
     if not STATUS_PATTERN.fullmatch(result.status):
         raise ValueError(f"status must be one line of 1 to {MAX_STATUS} characters, got {shown(result.status)}")
     unknown = set(result.demo_features) - set(FEATURES)
@@ -290,6 +293,68 @@ def _check_estimate(result: CaseResult) -> None:
         )
 
 
+_REGION_KEYS = {"lower", "upper", "level", "covariance", "method"}
+_TRANSFER_KEYS = {"speed", "status", "trajectory_error", "excess_cost"}
+
+
+def _check_region(result: CaseResult) -> None:
+    """The region is a valid :class:`WeightRegion` over the case's features, and
+    ``covered`` says whether it holds the true weights (None exactly when there is none)."""
+    data = result.uncertainty
+    if data is None:
+        if result.covered is not None:
+            raise ValueError(f"covered must be null without an uncertainty region, got {shown(result.covered)}")
+        return
+    if set(data) != _REGION_KEYS:
+        raise ValueError(f"uncertainty must have the fields {sorted(_REGION_KEYS)}, got {shown(sorted(data))}")
+    cov = data["covariance"]
+    try:
+        region = WeightRegion(
+            tuple(data["lower"]),
+            tuple(data["upper"]),
+            data["level"],
+            None if cov is None else tuple(map(tuple, cov)),
+            data["method"],
+        )
+    except TypeError:
+        raise ValueError("uncertainty.lower, .upper and .covariance must be lists of numbers") from None
+    reason = check_region(region, len(result.features))
+    if reason:
+        raise ValueError(reason)
+    holds = region.contains(np.array(result.true_weights, dtype=float))
+    if result.covered is not holds:
+        raise ValueError(
+            f"covered is {shown(result.covered)} but the region {'holds' if holds else 'misses'} the true weights"
+        )
+
+
+def _check_transfer(result: CaseResult) -> None:
+    """A transfer record has the other speed, a status and (once solved) its two scores."""
+    data = result.transfer
+    if data is None:
+        return
+    if (
+        not {"speed", "status"} <= set(data) <= _TRANSFER_KEYS
+        or len(set(data) & {"trajectory_error", "excess_cost"}) == 1
+    ):
+        raise ValueError(f"transfer must have speed, status and both scores or neither, got {shown(sorted(data))}")
+    speed, status = data["speed"], data["status"]
+    if not _number(speed) or not 0 < speed < math.inf:
+        raise ValueError(f"transfer.speed must be a positive number, got {shown(speed)}")
+    if not isinstance(status, str) or not STATUS_PATTERN.fullmatch(status):
+        raise ValueError(f"transfer.status must be one line of 1 to {MAX_STATUS} characters, got {shown(status)}")
+    if "trajectory_error" in data:
+        error, excess = data["trajectory_error"], data["excess_cost"]
+        if error is not None and (not _number(error) or not (math.isnan(error) or 0 <= error < math.inf)):
+            raise ValueError(f"transfer.trajectory_error must be a non-negative number or null, got {shown(error)}")
+        if excess is not None and (not _number(excess) or math.isinf(excess)):
+            raise ValueError(f"transfer.excess_cost must be a finite number or null, got {shown(excess)}")
+
+
+def _number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def _check_numbers(result: CaseResult) -> None:
     def check(name: str, value: float | None, upper: float = math.inf, may_be_nan: bool = True) -> None:
         if value is None:
@@ -305,6 +370,7 @@ def _check_numbers(result: CaseResult) -> None:
     check("found_trajectory_error", result.found_trajectory_error, math.inf, may_be_nan=False)
     check("wall_time", result.wall_time, MAX_WALL_TIME, may_be_nan=False)
     check("demo_speed", result.demo_speed, math.inf, may_be_nan=False)
+    check("scoring_time", result.scoring_time, MAX_WALL_TIME, may_be_nan=False)
     if not 0 <= result.n_solves <= MAX_SOLVES:
         raise ValueError(f"n_solves must be between 0 and {MAX_SOLVES}, got {shown(result.n_solves)}")
     i = result.chosen_iteration

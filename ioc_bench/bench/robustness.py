@@ -36,6 +36,8 @@ class Curve:
         low, high: (n,) its 95 % bootstrap interval over the cases at that severity.
         cases: (n,) how many cases each point has.
         complete: every condition of the axis has at least one successful case.
+        coverage: (n,) share of the successful cases with a 95 % weight region whose region
+            holds the truth (NaN where no case reports one).
     """
 
     label: str
@@ -46,6 +48,7 @@ class Curve:
     high: np.ndarray
     cases: np.ndarray
     complete: bool
+    coverage: np.ndarray
 
     @property
     def auc(self) -> float:
@@ -90,9 +93,15 @@ def curves(results: Sequence[CaseResult]) -> list[Curve]:
                     high=np.array([ci[1] if ci else np.nan for ci in cis]),
                     cases=np.array([len(e) for e in errors]),
                     complete=len(present) == len(conds) and all(rs for _, rs in present),
+                    coverage=np.array([_coverage(rs) for _, rs in present]),
                 )
             )
     return out
+
+
+def _coverage(results: Sequence[CaseResult]) -> float:
+    with_region = [r for r in results if r.covered is not None]
+    return float(np.mean([r.covered for r in with_region])) if with_region else float("nan")
 
 
 def auc_table(results: Sequence[CaseResult]) -> dict[str, dict[str, float]]:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ioc_bench.bench.case import CaseResult, CaseSpec
-from ioc_bench.bench.demos import DemoRequest, demonstration
+from ioc_bench.bench.demos import DemoRequest, check_cache, demonstration
 from ioc_bench.bench.executor import (
     DEFAULT_TIME_LIMIT,
     Executor,
@@ -125,7 +125,8 @@ def plan_run(
 
     Checks that every case's algorithm exists and accepts its config, the time limit, the
     executor (``local`` or ``ray``; a Ray cluster must answer), that ``out`` can be a
-    results directory, and that every result file already there for these cases reads.
+    results directory, that every result file already there for these cases reads, and
+    that the demonstration cache can be used.
     """
     specs = list(specs)
     for spec in specs:
@@ -146,6 +147,7 @@ def plan_run(
         except ResultFileError as exc:
             raise ResultFileError(f"{exc} (move it away, or use another --out)") from None
     plan.executor.check()
+    check_cache()
     return plan
 
 

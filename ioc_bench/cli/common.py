@@ -12,7 +12,6 @@ import argparse
 import contextlib
 import json
 import math
-import os
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -106,13 +105,10 @@ def input_dir(path: Path, what: str = "results directory") -> Path:
 def check_cache() -> Path:
     """The demonstration cache folder if usable (``$IOC_BENCH_CACHE`` or the default), else
     :class:`UsageError`: checked before the work, not when the first demonstration is saved."""
-    from ioc_bench.bench.demos import cache_dir
-    from ioc_bench.fileio import check_output_dir
+    from ioc_bench.bench.demos import check_cache as check
 
-    if os.environ.get("IOC_BENCH_CACHE") == "":
-        raise UsageError("IOC_BENCH_CACHE is set but empty: unset it or name a folder for the demonstration cache")
-    with usage_errors("the demonstration cache (IOC_BENCH_CACHE or ~/.cache/ioc-bench) cannot be used: "):
-        return check_output_dir(cache_dir() / "demos")
+    with usage_errors():
+        return check()
 
 
 def json_object(text: str) -> dict:

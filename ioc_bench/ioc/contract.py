@@ -75,6 +75,16 @@ def _record(record: Any, n: int, where: str) -> None:
     _json(record.extra, f"{where}.extra")
 
 
+def check_region(region: Any, n_features: int) -> str:
+    """The reason ``region`` is not a valid :class:`WeightRegion` over ``n_features``
+    weights, or "" if it is (used for a region read back from a result file too)."""
+    try:
+        _region(region, n_features)
+    except ContractError as exc:
+        return str(exc)
+    return ""
+
+
 def _region(region: Any, n: int) -> None:
     if not isinstance(region, WeightRegion):
         raise ContractError(f"uncertainty must be a WeightRegion or None, got {type(region).__name__}")
@@ -121,7 +131,8 @@ def _integer(value: Any) -> bool:
 
 
 def _text(value: Any, name: str, empty: bool = False) -> None:
-    if not isinstance(value, str) or (not empty and not value) or len(value) > MAX_STATUS:
+    one_line = isinstance(value, str) and value.isprintable()
+    if not one_line or (not empty and not value) or len(value) > MAX_STATUS:
         raise ContractError(
             f"{name} must be a{'' if empty else ' non-empty'} text of at most {MAX_STATUS} characters, "
             f"got {_short(value)}"

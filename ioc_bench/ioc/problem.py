@@ -20,10 +20,14 @@ lock torques, impulses, solver data).
 
 from __future__ import annotations
 
+import hashlib
+import json
 import numbers
+import time
 from collections.abc import Sequence
 from dataclasses import replace
 from functools import cached_property
+from typing import Protocol
 
 import numpy as np
 
@@ -39,7 +43,7 @@ from ioc_bench.task import Task
 from ioc_bench.trajectory import Observation, Trajectory
 from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
 from ioc_bench.trajopt.initial_guess import multistart_guesses
-from ioc_bench.trajopt.solution import FEASIBILITY_TOL, SolveResult, StartPoint
+from ioc_bench.trajopt.solution import FEASIBILITY_TOL, SolveResult, SolverReport, StartPoint
 from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE
 from ioc_bench.trajopt.tracking import signal_spans, tracking_error, tracking_terms
 from ioc_bench.weights import full_weights, normalize
@@ -52,6 +56,20 @@ __all__ = ["IOCProblem", "MultiTrialProblem", "OracleSolution", "OracleStats"]
 PROJECTION_SCALE = 1e4
 #: Most starts one ``optimize`` call may ask for (each is a counted forward solve).
 MAX_STARTS = 100
+
+
+#: Key of :attr:`OracleStats.seconds` holding the seconds a stored reference took when it
+#: was computed (charged to the problem that reuses it, so times stay comparable).
+REUSED_REFERENCE = "reused_reference"
+
+
+class ReferenceStore(Protocol):
+    """Somewhere references are kept between problems: by key, the reference's primal-dual
+    point, its solver report, how many projections it took and their seconds."""
+
+    def get(self, key: str) -> tuple[StartPoint, SolverReport, int, float] | None: ...
+
+    def put(self, key: str, point: StartPoint, report: SolverReport, solves: int, seconds: float) -> None: ...
 
 
 class IOCProblem:
@@ -72,6 +90,10 @@ class IOCProblem:
         seed: seed for the algorithm's random choices (use :meth:`rng`).
         model: the gait model (keyword only; default: the one whose parameters ``params``
             are, e.g. the walker for :class:`~ioc_bench.model.params.WalkerParams`).
+        reference_store: where the reference (:meth:`reference`) may be read from or kept
+            (keyword only; the benchmark shares one per machine, so algorithms and scoring
+            of one observation project it once). A stored reference still counts the
+            projections it took, and their seconds in ``stats.seconds["reused_reference"]``.
 
     Raises:
         ValueError: an argument of the wrong type or shape, a feature the model lacks.
@@ -86,6 +108,7 @@ class IOCProblem:
         seed: int = 0,
         *,
         model: GaitModel | None = None,
+        reference_store: ReferenceStore | None = None,
     ):
         if not isinstance(observed, Observation):
             raise ValueError(f"observed must be an Observation or a Trajectory, got {type(observed).__name__}")
@@ -114,6 +137,7 @@ class IOCProblem:
             raise ValueError(f"observed torques have {observed.tau.shape[1]} columns, the model has {n_act}")
         self.observed = observed
         self.stats = OracleStats()
+        self.reference_store = reference_store
         self._spans = signal_spans(observed, n_act)
 
     @property
@@ -209,10 +233,39 @@ class IOCProblem:
 
     @cached_property
     def _reference(self) -> OracleSolution:
+        stored = self.reference_store.get(self._reference_key) if self.reference_store else None
+        if stored is not None:
+            point, report, solves, seconds = stored
+            self.stats.calls["project"] += solves  # the projections it took, counted as if made here
+            self.stats.seconds[REUSED_REFERENCE] += seconds  # and their time, charged by the caller
+            return self._wrap(
+                SolveResult(self._forward.trajectory(point.x, self.params), report, point.x, point.lam_x, point.lam_g),
+                np.zeros(self.n_features),
+            )
+        before, t0 = self.stats.calls["project"], time.perf_counter()
         plain = self.project(self.observed)
-        if self.noise_level <= NOISE_FLOOR or not plain.success:
-            return plain
-        return self._smoothed(plain)
+        found = plain if self.noise_level <= NOISE_FLOOR or not plain.success else self._smoothed(plain)
+        if self.reference_store is not None and found.point is not None and found.report is not None:
+            solves = self.stats.calls["project"] - before
+            self.reference_store.put(self._reference_key, found.point, found.report, solves, time.perf_counter() - t0)
+        return found
+
+    @cached_property
+    def _reference_key(self) -> str:
+        """What the reference depends on: the observation, the model, its parameters and the task."""
+        digest = hashlib.sha256()
+        digest.update(np.ascontiguousarray(self.observed.signals(len(self._forward.actuators))).tobytes())
+        digest.update(np.float64(self.observed.dt).tobytes())
+        payload = {
+            "params": self.params.to_dict(),
+            "speed": self.task.speed,
+            "step_length": self.task.step_length,
+            "model": self.model.name,
+            "knots": self.observed.n_knots,
+            "ladder": list(SMOOTHING_LADDER),
+        }
+        digest.update(json.dumps(payload, sort_keys=True).encode())
+        return digest.hexdigest()[:24]
 
     def reference(self) -> OracleSolution:
         """The feasible reference of the observation, computed on first use: its projection

@@ -471,10 +471,23 @@ def make_figures(
 
 
 def plot_robustness(results: Sequence[CaseResult], path: str | os.PathLike) -> Path:
-    """Weight error against severity, one panel per axis, a line per algorithm with its interval."""
+    """Weight error against severity, one panel per axis, a line per algorithm with its interval;
+    below, the coverage of the algorithms' 95 % weight regions at each severity."""
     found = robustness_curves(results)
     labels = sorted({c.label for c in found})
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), sharey=True)
+    fig, grid = plt.subplots(2, 3, figsize=(15, 8.4), sharey="row", height_ratios=(1.4, 1))
+    axes, cover_axes = grid
+    for ax, axis in zip(cover_axes, AXES):
+        for k, label in enumerate(labels):
+            curve = next((c for c in found if c.label == label and c.axis == axis), None)
+            if curve is not None and np.any(np.isfinite(curve.coverage)):
+                ax.plot(curve.severity, curve.coverage, "s-", color=_algorithm_color(k), label=label)
+        ax.axhline(0.95, color="k", linestyle="--", linewidth=0.8, label="nominal 0.95")
+        ax.set_ylim(-0.05, 1.05)
+        ax.set_title(f"{axis}: share of 95 % weight regions holding the truth")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    cover_axes[0].set_ylabel("coverage (algorithms without regions not shown)")
     for ax, axis in zip(axes, AXES):
         for k, label in enumerate(labels):
             curve = next((c for c in found if c.label == label and c.axis == axis), None)
@@ -485,6 +498,7 @@ def plot_robustness(results: Sequence[CaseResult], path: str | os.PathLike) -> P
             ax.fill_between(curve.severity, curve.low, curve.high, color=color, alpha=0.15)
         unit = "noise sigma, % of each signal's span" if axis == "noise" else f"{axis} error of the IOC's model, %"
         ax.set_xlabel(unit)
+        cover_axes[list(AXES).index(axis)].set_xlabel(unit)
         ax.set_title(f"{axis}: weight error against severity")
         ax.set_yscale("symlog", linthresh=1e-3)
         ax.grid(alpha=0.3)

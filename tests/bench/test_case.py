@@ -70,3 +70,32 @@ def test_result_round_trips_through_json(register, ideal_nominal_cached):
     result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
     again = parse_result(json.loads(json.dumps(result.to_dict())))
     assert again == result
+
+
+def test_a_stored_reference_is_the_same_and_counts_its_projections(nominal_demo, tmp_path, monkeypatch):
+    from ioc_bench.bench.demos import ReferenceCache
+    from ioc_bench.bench.observe import observe
+    from ioc_bench.features import COST_FEATURES
+    from ioc_bench.ioc.problem import IOCProblem
+    from ioc_bench.trajopt.forward_problem import ForwardProblem
+
+    observed = observe(nominal_demo.trajectory, 0.05, np.random.default_rng(3))
+    store = ReferenceCache(tmp_path)
+
+    def problem():
+        return IOCProblem(observed, COST_FEATURES, nominal_demo.params, nominal_demo.task, reference_store=store)
+
+    first = problem()
+    made = first.reference()
+    assert made.success and first.stats.calls["project"] >= 2  # noisy: projected, then smoothed
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("the stored reference was solved again")
+
+    monkeypatch.setattr(ForwardProblem, "solve", forbidden)
+    second = problem()
+    again = second.reference()
+    assert np.array_equal(again.point.x, made.point.x) and np.array_equal(again.features, made.features)
+    assert second.stats.calls["project"] == first.stats.calls["project"]
+    # ... and its seconds, so a case that reuses it is timed as if it had projected itself.
+    assert second.stats.seconds["reused_reference"] >= first.stats.seconds["project"] > 0

@@ -2,16 +2,39 @@ from __future__ import annotations
 
 import pytest
 
+from ioc_bench.bench.case import CaseSpec
 from ioc_bench.bench.conditions import CONDITIONS, Condition, register_condition
 from ioc_bench.bench.suites import SUITES, Suite, get_suite
 
 
-def test_paper_suite_is_four_weight_sets_by_the_papers_conditions_and_noise_kinematics():
+def test_paper_suite_is_four_weight_sets_by_the_papers_conditions_noise_kinematics_and_multi_trial():
     cases = get_suite("paper").cases("log-barrier")
-    assert len(cases) == 28 and len({c.key for c in cases}) == 28
+    assert len(cases) == 36 and len({c.key for c in cases}) == 36
     paper = {"ideal", "ideal-fast", "noise", "mass", "speed", "distractor"}
-    assert {c.condition for c in cases} == paper | {"noise-kinematics"}
+    assert {c.condition for c in cases} == paper | {"noise-kinematics", "multi-speed", "multi-speed-noise"}
     assert set(CONDITIONS) > paper
+
+
+def test_multi_trial_cases_observe_both_speeds_and_share_the_first_trial():
+    multi = CaseSpec("x", "penalize-knee", "multi-speed-noise", 1)
+    single = CaseSpec("x", "penalize-knee", "noise", 1)
+    speeds = [r.task.speed for r in multi.demo_requests()]
+    assert speeds == [0.27, 0.34] and multi.demo_request() == single.demo_request()
+    assert multi.transfer_request() is None and single.transfer_request().task.speed == 0.34
+
+
+def test_compass_suites_run_the_compass_model_with_its_own_weight_sets():
+    cases = get_suite("compass-paper").cases("x")
+    assert {c.model for c in cases} == {"compass"} and {c.weight_set for c in cases} == {
+        "nominal",
+        "penalize-hip",
+        "penalize-dtau",
+    }
+    distractor = next(c for c in cases if c.condition == "distractor")
+    assert distractor.features == ("hip", "dtau", "torso", "steplen", "footheight")
+    assert distractor.key.endswith("__model-compass")
+    with pytest.raises(ValueError, match="penalize-knee"):
+        CaseSpec("x", "penalize-knee", "ideal", 0, model="compass")
 
 
 def test_smoke_is_small_and_paper_3seeds_has_three_seeds():

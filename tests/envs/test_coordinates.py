@@ -25,11 +25,14 @@ from ioc_bench.model.walker import walker_linkage
 def test_round_trip_at_every_knot(nominal_demo: Demonstration, stance: str):
     link = walker_linkage(nominal_demo.params)
     tr = nominal_demo.trajectory
+    # The demonstration's centres of mass satisfy the joint constraints only to the solver's
+    # feasibility; the round trip rebuilds them from the angles, so it can differ by that much.
+    tol = 1e-12 + nominal_demo.solver.max_violation
     for k in range(tr.n_knots):
         qpos, qvel, qacc = to_generalized(link, tr.q[k], tr.v[k], tr.acc[k], stance)
         q, v = to_segments(link, qpos, qvel, stance)
-        assert q == pytest.approx(tr.q[k], abs=1e-12)
-        assert v == pytest.approx(tr.v[k], abs=1e-12)
+        assert q == pytest.approx(tr.q[k], abs=tol)
+        assert v == pytest.approx(tr.v[k], abs=tol)
         assert np.all(np.isfinite(qacc))
 
 

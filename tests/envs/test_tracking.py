@@ -55,9 +55,18 @@ def test_policy_at_the_initial_state_is_the_demonstrations_torque(nominal_demo: 
     assert cmd.joints == pytest.approx(cmd.joints_ref, abs=1e-12)
     assert np.abs(cmd.tau_fb).max() < 1e-6
     assert cmd.action == pytest.approx(nominal_demo.trajectory.tau[0], abs=1e-6)
-    # With leg b in the stance role the same torques go to the other motors.
-    swapped = TrackingPolicy(nominal_demo).command(obs, {"stance_leg": "b"})
+    # With leg b in the stance role (mid-step, so the policy keeps it) the torques go to the
+    # other motors. (At knot 0 the hip is exactly as far ahead of the trailing foot as at the
+    # step's end, so which role that foot gets there is a tie.)
+    from envs.coordinates import to_generalized
+    from ioc_bench.model.walker import walker_linkage
+
+    tr, k = nominal_demo.trajectory, nominal_demo.trajectory.n_knots // 2
+    env.set_state(*to_generalized(walker_linkage(nominal_demo.params), tr.q[k], tr.v[k], None, "b")[:2])
+    swapped = TrackingPolicy(nominal_demo).command(env._get_obs(), {"stance_leg": "b"})
+    assert swapped.stance_leg == "b"
     assert swapped.action == pytest.approx(motor_controls(swapped.tau_ff + swapped.tau_fb, "b"))
+    assert not np.allclose(swapped.action, motor_controls(swapped.tau_ff + swapped.tau_fb, "a"))
 
 
 def test_policy_tracks_the_next_step_once_the_hip_passes_the_steps_end(nominal_demo: Demonstration):

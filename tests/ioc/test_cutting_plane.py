@@ -15,10 +15,15 @@ class StubProblem:
     """Features of x* are PHI_REF; optimize() returns the scripted feature vectors in turn."""
 
     n_features = 3
+    seed = 0
 
     def __init__(self, steps):
         self.steps = list(steps)
         self.observed = SimpleNamespace(tau=np.zeros((3, 4)))
+
+    @property
+    def trials(self):
+        return (self,)
 
     def reference(self):
         return SimpleNamespace(success=True, trajectory="x-hat")
