@@ -51,14 +51,18 @@ class ReplayReport:
     Attributes:
         checks: the physical verdict, one :class:`PhysicsCheck` each.
         inverse_dynamics: details of the inverse-dynamics check (residual per knot and DOF).
-        open_loop: the step simulated with its torques alone (reported).
-        closed_loop: the gait walked under tracking (reported: steps walked, feedback share).
+        open_loop: the step simulated with its torques alone (reported); None if not replayed.
+        closed_loop: the gait walked under tracking (reported: steps walked, feedback share);
+            None if not replayed.
+        replay_error: why the step could not be replayed (e.g. a motion so wrong that its
+            hip does not move steadily forward, which the tracking policy needs), or None.
     """
 
     checks: tuple[PhysicsCheck, ...]
     inverse_dynamics: InverseDynamicsResult
-    open_loop: OpenLoopResult
-    closed_loop: ClosedLoopResult
+    open_loop: OpenLoopResult | None
+    closed_loop: ClosedLoopResult | None
+    replay_error: str | None = None
 
     @property
     def passed(self) -> bool:
@@ -81,8 +85,9 @@ class ReplayReport:
         return {
             "checks": [c.to_dict() for c in self.checks],
             "inverse_dynamics": self.inverse_dynamics.to_dict(),
-            "open_loop": self.open_loop.to_dict(),
-            "closed_loop": self.closed_loop.to_dict(),
+            "open_loop": None if self.open_loop is None else self.open_loop.to_dict(),
+            "closed_loop": None if self.closed_loop is None else self.closed_loop.to_dict(),
+            "replay_error": self.replay_error,
             "passed": self.passed,
         }
 
@@ -93,14 +98,25 @@ def replay(
     params: WalkerParams | None = None,
     gains: PDGains | None = None,
 ) -> ReplayReport:
-    """Check ``demo`` against the MuJoCo model of ``params`` (default: its own), and replay it."""
+    """Check ``demo`` against the MuJoCo model of ``params`` (default: its own), and replay it.
+
+    The physical checks always run. A step that cannot be replayed (``ValueError`` from
+    the open or closed loop, e.g. a motion the tracking policy cannot follow by phase) is
+    reported with its reason in :attr:`ReplayReport.replay_error`, not raised: the verdict
+    is the physical checks'.
+
+    Raises:
+        ValueError: if ``steps < 1``.
+    """
+    if steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
     inverse_dynamics = inverse_dynamics_check(demo, params)
-    return ReplayReport(
-        checks=physics_checks(demo, inverse_dynamics, params),
-        inverse_dynamics=inverse_dynamics,
-        open_loop=open_loop_replay(demo, params),
-        closed_loop=closed_loop_replay(demo, steps, gains, params),
-    )
+    checks = physics_checks(demo, inverse_dynamics, params)
+    try:
+        open_loop, closed_loop = open_loop_replay(demo, params), closed_loop_replay(demo, steps, gains, params)
+    except ValueError as exc:
+        return ReplayReport(checks, inverse_dynamics, None, None, str(exc))
+    return ReplayReport(checks, inverse_dynamics, open_loop, closed_loop)
 
 
 __all__ = [

@@ -23,7 +23,6 @@ from pathlib import Path
 from typing import Any
 
 from ioc_bench.cli.common import (
-    UsageError,
     add_json_flag,
     mujoco_log_to_stderr,
     output_dir,
@@ -84,17 +83,15 @@ def _replay_one(path: Path, demo: Any, args: argparse.Namespace) -> dict[str, An
     from ioc_bench.model.params import WalkerParams
 
     params = demo.params if args.model == "demo" else WalkerParams()
-    try:
-        report = checks.replay(demo, steps=args.steps, params=params)
-    except ValueError as exc:  # a loadable file whose step cannot be replayed
-        raise UsageError(f"cannot replay {path}: {exc}") from None
+    report = checks.replay(demo, steps=args.steps, params=params)
     out_dir = _out_dir(path, args)
     stem = path.stem
-    outputs = {
-        "plot": str(plots.plot_comparison(demo, report.open_loop, report.closed_loop, out_dir / f"{stem}_replay.png"))
-    }
-    if not args.no_video:
-        outputs["video"] = str(plots.write_animation(report.closed_loop, params, out_dir / f"{stem}_replay.gif"))
+    outputs = {}
+    if report.closed_loop is not None:  # None: the step could not be replayed (report.replay_error)
+        plot = plots.plot_comparison(demo, report.open_loop, report.closed_loop, out_dir / f"{stem}_replay.png")
+        outputs["plot"] = str(plot)
+        if not args.no_video:
+            outputs["video"] = str(plots.write_animation(report.closed_loop, params, out_dir / f"{stem}_replay.gif"))
     result = report.to_dict() | {"demo": str(path), "model": args.model, "outputs": outputs}
     if args.json:
         print_json(result)
@@ -122,10 +119,20 @@ def _failed_names(r: dict[str, Any]) -> list[str]:
 
 
 def _print_report(r: dict[str, Any]) -> None:
-    ol, cl = r["open_loop"], r["closed_loop"]
     print(f"replay   {r['demo']} against the {r['model']} MuJoCo model")
     for c in r["checks"]:
         print(_check_line(c))
+    if r["closed_loop"] is None:
+        print(f"open and closed loop (not run)  {r['replay_error']}")
+    else:
+        _print_loops(r["open_loop"], r["closed_loop"])
+    failed = _failed_names(r)
+    print(f"verdict  {_verdict(r['passed'])}" + (f": {', '.join(failed)}" if failed else ": every physical check"))
+    if r["outputs"]:
+        print("wrote    " + " and ".join(r["outputs"].values()))
+
+
+def _print_loops(ol: dict[str, Any], cl: dict[str, Any]) -> None:
     landed = "no landing" if ol["touchdown_time"] is None else f"landed at t={ol['touchdown_time']:.3f}"
     print(
         f"open loop            (reported)  final-state error {ol['final_position_error']:.2e} (positions), "
@@ -139,9 +146,6 @@ def _print_report(r: dict[str, Any]) -> None:
         f"tracking RMS {cl['tracking_rms']:.2e} rad (max {cl['tracking_max']:.2e}), "
         f"stance foot down {100 * cl['stance_contact']:.1f} %, {cl['grazes']} swing-foot grazes{fell}"
     )
-    failed = _failed_names(r)
-    print(f"verdict  {_verdict(r['passed'])}" + (f": {', '.join(failed)}" if failed else ": every physical check"))
-    print("wrote    " + " and ".join(r["outputs"].values()))
 
 
 def _print_summary(results: list[dict[str, Any]]) -> None:
@@ -149,10 +153,14 @@ def _print_summary(results: list[dict[str, Any]]) -> None:
     for r in results:
         idr, cl = r["inverse_dynamics"], r["closed_loop"]
         failed = _failed_names(r)
+        loop = (
+            f"not replayed ({r['replay_error']})"
+            if cl is None
+            else f"walked {cl['steps_walked']}/{cl['steps_requested']} steps, tracking RMS "
+            f"{cl['tracking_rms']:.1e} rad, feedback share {100 * cl['feedback_share']:.1f} %"
+        )
         print(
             f"  {_verdict(r['passed'])}  {r['demo']}: "
             + (f"failed {', '.join(failed)}; " if failed else "")
-            + f"inverse dynamics {idr['relative_residual']:.1e}; reported: walked "
-            f"{cl['steps_walked']}/{cl['steps_requested']} steps, tracking RMS {cl['tracking_rms']:.1e} rad, "
-            f"feedback share {100 * cl['feedback_share']:.1f} %"
+            + f"inverse dynamics {idr['relative_residual']:.1e}; reported: {loop}"
         )

@@ -98,6 +98,21 @@ def test_a_physically_wrong_step_fails_naming_its_cause(strong_torques_file, cap
     assert "verdict  FAIL: inverse_dynamics" in lines
 
 
+def test_a_step_that_cannot_be_replayed_is_judged_by_its_physics(nominal_demo, tmp_path, capsys):
+    """Knots 5 % further apart: the tracking policy cannot follow it (its hip, interpolated
+    with velocities that no longer fit, does not move steadily forward), so it is not
+    replayed; the verdict names the timing, exit 1, not a usage error."""
+    tr = nominal_demo.trajectory
+    path = replace(nominal_demo, trajectory=replace(tr, dt=tr.dt * 1.05)).save(tmp_path / "slow.npz")
+    code = main(["replay", str(path), "--no-video"])
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1
+    assert [line.split()[0] for line in lines if " FAIL  " in line] == ["time_consistency"]
+    assert any(line.startswith("open and closed loop (not run)  ") for line in lines)
+    assert "verdict  FAIL: time_consistency" in lines
+    assert not (tmp_path / "slow_replay.png").exists()
+
+
 def test_a_fall_is_reported_and_exits_0(demo_file, capsys, monkeypatch):
     """Instability is not a physical error: a walk that falls (no feedback) still passes."""
     import envs.checks as checks

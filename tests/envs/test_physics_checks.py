@@ -160,3 +160,16 @@ def test_a_wrong_variant_fails_the_report(nominal_demo: Demonstration):
     assert report.check("inverse_dynamics") is report.failures[0]
     assert not report.to_dict()["passed"]
     assert np.isfinite(report.to_dict()["closed_loop"]["feedback_share"])
+
+
+def test_a_step_that_cannot_be_replayed_keeps_its_verdict(nominal_demo: Demonstration):
+    report = replay(_variant(nominal_demo, dt=nominal_demo.trajectory.dt * 1.05), steps=1)
+    assert report.closed_loop is None and report.open_loop is None
+    assert "does not move steadily forward" in report.replay_error
+    assert [c.name for c in report.failures] == ["time_consistency"]
+    assert report.to_dict()["closed_loop"] is None
+
+
+def test_replay_rejects_no_steps(nominal_demo: Demonstration):
+    with pytest.raises(ValueError, match="steps"):
+        replay(nominal_demo, steps=0)
