@@ -33,7 +33,8 @@ from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, ContactSettings
 from ioc_bench.model.params import WalkerParams
 
-#: Feedback share at or above which the closed loop is judged not to follow the demonstration.
+#: Feedback share at or above which the closed loop is reported as not following the
+#: demonstration (reported, not judged: the physical verdict is ``envs.checks.physics_checks``).
 FEEDBACK_SHARE_LIMIT = 0.2
 #: Steps the closed loop walks by default.
 DEFAULT_STEPS = 10
@@ -72,7 +73,8 @@ class ClosedLoopResult:
             the floor (the optimizer's stance foot never leaves it).
         grazes: touchdowns of the swing foot (after it had lifted off) that the
             environment did not count as heel strikes (short of the landing zone).
-        share_limit: feedback share at or above which the check fails.
+        share_limit: feedback share at or above which the walk is reported as not following
+            the demonstration (:attr:`passed`; the replay reports it, it does not judge by it).
     """
 
     steps_requested: int
@@ -98,6 +100,8 @@ class ClosedLoopResult:
 
     @property
     def passed(self) -> bool:
+        """Walked every step with a feedback share under :attr:`share_limit` ("followed" in
+        :meth:`to_dict`). A stability figure: a valid gait may miss it (issue 23)."""
         return self.steps_walked >= self.steps_requested and self.feedback_share < self.share_limit
 
     def to_dict(self) -> dict[str, Any]:
@@ -115,7 +119,7 @@ class ClosedLoopResult:
             "stance_contact": self.stance_contact,
             "grazes": self.grazes,
             "distance": float(self.qpos[-1, 0] - self.qpos[0, 0]),
-            "passed": self.passed,
+            "followed": self.passed,
         }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -14,6 +15,14 @@ from ioc_bench.cli import main
 @pytest.fixture(scope="module")
 def demo_file(nominal_demo: Demonstration, tmp_path_factory) -> str:
     return str(nominal_demo.save(tmp_path_factory.mktemp("replay") / "nominal.npz"))
+
+
+@pytest.fixture(scope="module")
+def strong_torques_file(nominal_demo: Demonstration, tmp_path_factory) -> str:
+    """The nominal step with its torques scaled by 1.1: physically wrong (they do not fit its motion)."""
+    tr = nominal_demo.trajectory
+    demo = replace(nominal_demo, trajectory=replace(tr, tau=tr.tau * 1.1))
+    return str(demo.save(tmp_path_factory.mktemp("replay") / "strong.npz"))
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +43,17 @@ def test_json_report_and_outputs_next_to_the_demo(demo_file, capsys):
     code = main(["replay", demo_file, "--json", "--no-video", "--steps", "2"])
     report = json.loads(capsys.readouterr().out)
     assert code == 0
-    assert set(report) >= {"inverse_dynamics", "open_loop", "closed_loop", "passed", "outputs"}
+    assert set(report) >= {"checks", "inverse_dynamics", "open_loop", "closed_loop", "passed", "outputs"}
+    assert [c["name"] for c in report["checks"]] == [
+        "inverse_dynamics",
+        "time_consistency",
+        "ground_normal_force",
+        "friction_cone",
+        "swing_penetration",
+        "knee_range",
+    ]
+    assert all(c["passed"] and c["reason"] == "" for c in report["checks"])
+    assert report["passed"]
     assert report["inverse_dynamics"]["relative_residual"] < 1e-3
     assert report["closed_loop"]["steps_walked"] == 2
     assert 0 <= report["closed_loop"]["feedback_share"] < 0.2
@@ -49,8 +68,13 @@ def test_human_report_and_gif_in_out_dir(demo_file, tmp_path, capsys):
     code = main(["replay", demo_file, "--out", str(tmp_path), "--steps", "1"])
     out = capsys.readouterr().out
     assert code == 0
-    for line in ("inverse dynamics  PASS", "open loop", "closed loop       PASS"):
-        assert line in out
+    lines = out.splitlines()
+    for name in ("inverse_dynamics", "time_consistency", "ground_normal_force", "friction_cone"):
+        assert sum(line.startswith(f"{name:<20} PASS  ") for line in lines) == 1, out
+    assert any(line.startswith("knee_range           PASS  ") and "(<= 1e-06)" in line for line in lines)
+    assert any(line.startswith("open loop            (reported)") for line in lines)
+    assert any(line.startswith("closed loop          (reported)  1/1 steps, feedback share") for line in lines)
+    assert "verdict  PASS: every physical check" in lines
     assert (tmp_path / "nominal_replay.gif").stat().st_size > 0
     assert (tmp_path / "nominal_replay.png").stat().st_size > 0
 
@@ -62,6 +86,45 @@ def test_wrong_model_fails_the_inverse_dynamics_check(heavy_file, capsys):
     assert report["model"] == "nominal"
     assert not report["inverse_dynamics"]["passed"]
     assert report["inverse_dynamics"]["relative_residual"] > 1e-3
+
+
+def test_a_physically_wrong_step_fails_naming_its_cause(strong_torques_file, capsys):
+    code = main(["replay", strong_torques_file, "--no-video", "--steps", "1"])
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1
+    failed = [line for line in lines if " FAIL  " in line]
+    assert len(failed) == 1 and failed[0].startswith("inverse_dynamics     FAIL  "), lines
+    assert "torques inconsistent with the dynamics" in failed[0]
+    assert "verdict  FAIL: inverse_dynamics" in lines
+
+
+def test_a_step_that_cannot_be_replayed_is_judged_by_its_physics(nominal_demo, tmp_path, capsys):
+    """Knots 5 % further apart: the tracking policy cannot follow it (its hip, interpolated
+    with velocities that no longer fit, does not move steadily forward), so it is not
+    replayed; the verdict names the timing, exit 1, not a usage error."""
+    tr = nominal_demo.trajectory
+    path = replace(nominal_demo, trajectory=replace(tr, dt=tr.dt * 1.05)).save(tmp_path / "slow.npz")
+    code = main(["replay", str(path), "--no-video"])
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1
+    assert [line.split()[0] for line in lines if " FAIL  " in line] == ["time_consistency"]
+    assert any(line.startswith("open and closed loop (not run)  ") for line in lines)
+    assert "verdict  FAIL: time_consistency" in lines
+    assert not (tmp_path / "slow_replay.png").exists()
+
+
+def test_a_fall_is_reported_and_exits_0(demo_file, capsys, monkeypatch):
+    """Instability is not a physical error: a walk that falls (no feedback) still passes."""
+    import envs.checks as checks
+    from envs.tracking import PDGains
+
+    real = checks.replay
+    monkeypatch.setattr(checks, "replay", lambda *a, **k: real(*a, **k, gains=PDGains(kp=0.0, kd=0.0)))
+    code = main(["replay", demo_file, "--json", "--no-video", "--steps", "3"])
+    report = json.loads(capsys.readouterr().out)
+    assert report["closed_loop"]["steps_walked"] < 3 and report["closed_loop"]["fall_reason"]
+    assert not report["closed_loop"]["followed"]
+    assert report["passed"] and code == 0
 
 
 def test_missing_file_is_a_one_line_error(tmp_path, capsys):
