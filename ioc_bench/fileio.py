@@ -204,9 +204,8 @@ def check_output_file(path: Any) -> Path:
     return path
 
 
-def check_input_file(path: Any, what: str = "file", max_bytes: int | None = None) -> Path:
-    """``path`` if it is a regular file to read (of at most ``max_bytes``); else :class:`PathError`."""
-    path = check_path_text(path, f"the path of the {what}")
+def _stat_input(path: Path, what: str) -> os.stat_result:
+    """The status of an input path that exists, is readable and is on no pseudo-file system."""
     try:
         st = os.stat(path)
     except (FileNotFoundError, NotADirectoryError):
@@ -214,6 +213,13 @@ def check_input_file(path: Any, what: str = "file", max_bytes: int | None = None
     except OSError as exc:
         raise PathError(f"cannot read {what} {path}: {_reason(exc)}") from None
     _refuse_pseudo(path, _real(path))
+    return st
+
+
+def check_input_file(path: Any, what: str = "file", max_bytes: int | None = None) -> Path:
+    """``path`` if it is a regular file to read (of at most ``max_bytes``); else :class:`PathError`."""
+    path = check_path_text(path, f"the path of the {what}")
+    st = _stat_input(path, what)
     if stat.S_ISDIR(st.st_mode):
         raise PathError(f"{path} is a directory, not a {what}")
     if not stat.S_ISREG(st.st_mode):
@@ -226,13 +232,7 @@ def check_input_file(path: Any, what: str = "file", max_bytes: int | None = None
 def check_input_dir(path: Any, what: str = "directory") -> Path:
     """``path`` if it is a folder to read from; else :class:`PathError`."""
     path = check_path_text(path, f"the path of the {what}")
-    try:
-        st = os.stat(path)
-    except (FileNotFoundError, NotADirectoryError):
-        raise PathError(f"{what} not found: {path}") from None
-    except OSError as exc:
-        raise PathError(f"cannot read {what} {path}: {_reason(exc)}") from None
-    _refuse_pseudo(path, _real(path))
+    st = _stat_input(path, what)
     if not stat.S_ISDIR(st.st_mode):
         raise PathError(f"{path} is {_kind(st.st_mode)}, not a {what}")
     return path

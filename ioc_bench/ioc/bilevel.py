@@ -222,8 +222,12 @@ class Bilevel(IOCAlgorithm):
         except _Budget:
             status, message = "max_iterations", f"forward-solve budget ({cfg.max_solves}) spent"
             w = fit.best[1]
+        if np.all(np.isfinite(w)) and not _solved(fit, w) and _solved(fit, fit.best[1]):
+            # A step may end where the forward solve fails (its residual is only a penalty):
+            # that is no answer, so the best candidate whose solves succeeded is returned.
+            w, message = fit.best[1], f"{message}; the last weights' forward solve failed, the best solved ones kept"
         error = fit.best[0] if cfg.method == "lbfgs" or status == "max_iterations" else _error(fit, w)
-        if not np.isfinite(error) or not np.all(np.isfinite(w)):
+        if not np.isfinite(error) or not np.all(np.isfinite(w)) or not _solved(fit, w):
             return IOCResult(
                 np.full(problem.n_features, np.nan), "failed: no forward solve succeeded", tuple(fit.history)
             )
@@ -245,6 +249,17 @@ class Bilevel(IOCAlgorithm):
         if cfg.init == "inverse-kkt":
             return candidate
         return min((candidate, uniform), key=lambda w: _error(fit, w))
+
+
+def _solved(fit: _Fit, w: np.ndarray) -> bool:
+    """Whether every trial's forward solve at ``w`` succeeded (cached solves are reused)."""
+    if not np.all(np.isfinite(w)):
+        return False
+    try:
+        _, sols = fit.solve(w)
+    except _Budget:
+        return False
+    return all(sol.success for sol in sols)
 
 
 def _error(fit: _Fit, w: np.ndarray) -> float:

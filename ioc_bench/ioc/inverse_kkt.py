@@ -23,6 +23,7 @@ One projection and no forward solve.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -165,19 +166,38 @@ def _blocks(view, x: np.ndarray, cfg: InverseKKTConfig) -> _Blocks:
     )
 
 
-def fit_kkt(view, x: np.ndarray, cfg: InverseKKTConfig) -> KKTFit:
-    """The inverse-KKT least-squares fit at decision vector ``x`` of a :class:`ForwardView`."""
-    blk = _blocks(view, x, cfg)
-    n_w = len(view.features)
-    projected = blk.projected
+@dataclass(frozen=True, eq=False)
+class _Normalised:
+    """The bounded least squares of the KKT residual, columns scaled to unit norm, with
+    the normalisation row (the weights sum to 1 in those units): system, fit, solution."""
+
+    a: np.ndarray
+    b: np.ndarray
+    norms: np.ndarray
+    fit: Any
+    z: np.ndarray
+
+
+def _normalised_fit(
+    projected: np.ndarray, lower: np.ndarray, upper: np.ndarray, n_w: int, cfg: InverseKKTConfig
+) -> _Normalised:
     norms = np.maximum(np.linalg.norm(projected, axis=0), 1e-300)
     row = np.zeros(projected.shape[1])
     row[:n_w] = cfg.normalisation_weight
     a = np.vstack([projected / norms, row])
     b = np.zeros(a.shape[0])
     b[-1] = cfg.normalisation_weight
-    fit = lsq_linear(a, b, bounds=(blk.lower * norms, blk.upper * norms), method="bvls")
-    z = fit.x / norms
+    fit = lsq_linear(a, b, bounds=(lower * norms, upper * norms), method="bvls")
+    return _Normalised(a, b, norms, fit, fit.x / norms)
+
+
+def fit_kkt(view, x: np.ndarray, cfg: InverseKKTConfig) -> KKTFit:
+    """The inverse-KKT least-squares fit at decision vector ``x`` of a :class:`ForwardView`."""
+    blk = _blocks(view, x, cfg)
+    n_w = len(view.features)
+    projected = blk.projected
+    system = _normalised_fit(projected, blk.lower, blk.upper, n_w, cfg)
+    fit, norms, z = system.fit, system.norms, system.z
     nu, lam = np.zeros(blk.n_g), np.zeros(x.size)
     offset = n_w + 1
     for k, idx in enumerate(blk.groups):
@@ -199,7 +219,7 @@ def fit_kkt(view, x: np.ndarray, cfg: InverseKKTConfig) -> KKTFit:
         residual=residual,
         relative_residual=residual / max(scale, 1e-300),
         success=bool(fit.success) and bool(np.any(raw > 0)),
-        covariance=_weight_covariance(a, b, fit, norms, n_w),
+        covariance=_weight_covariance(system.a, system.b, fit, norms, n_w),
     )
 
 
@@ -235,21 +255,15 @@ def fit_kkt_trials(trials, cfg: InverseKKTConfig) -> JointFit:
     projected = np.hstack([shared, own])
     lower = np.concatenate([blocks[0].lower[: n_w + 1], *[b.lower[n_w + 1 :] for b in blocks]])
     upper = np.concatenate([blocks[0].upper[: n_w + 1], *[b.upper[n_w + 1 :] for b in blocks]])
-    norms = np.maximum(np.linalg.norm(projected, axis=0), 1e-300)
-    row = np.zeros(projected.shape[1])
-    row[:n_w] = cfg.normalisation_weight
-    a = np.vstack([projected / norms, row])
-    b = np.zeros(a.shape[0])
-    b[-1] = cfg.normalisation_weight
-    fit = lsq_linear(a, b, bounds=(lower * norms, upper * norms), method="bvls")
-    z = fit.x / norms
+    system = _normalised_fit(projected, lower, upper, n_w, cfg)
+    z = system.z
     raw = np.maximum(z[:n_w], 0.0)
     scale = float(np.linalg.norm(projected[:, :n_w] @ raw))
     return JointFit(
         weights=raw / max(np.linalg.norm(raw), 1e-300),
-        covariance=_weight_covariance(a, b, fit, norms, n_w),
+        covariance=_weight_covariance(system.a, system.b, system.fit, system.norms, n_w),
+        success=bool(system.fit.success) and bool(np.any(raw > 0)),
         relative_residual=float(np.linalg.norm(projected @ z)) / max(scale, 1e-300),
-        success=bool(fit.success) and bool(np.any(raw > 0)),
     )
 
 
