@@ -41,3 +41,38 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
         ax.set_xlabel("% of the step")
     fig.suptitle("Leg segment angles from vertical (walker convention: + = proximal end ahead)", fontsize=10)
     return save_figure(fig, path)
+
+
+def plot_human_case(record: Mapping, humans: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
+    """The figure of one human-track case: per speed (training first), the person's leg
+    segment angles, the estimated weights' step and the nominal weights' step.
+
+    ``record`` is a case's JSON record (:meth:`ioc_bench.human.track.HumanResult.to_dict`
+    with angles), ``humans`` the person's (T, 4) angles by speed code.
+    """
+    rows = [("fit", record["train"], record.get("fit"))]
+    rows += [("predicted", code, record.get("predictions", {}).get(code)) for code in record["predict"]]
+    panels = []
+    for role, code, score in rows:
+        if code not in humans:
+            continue
+        score = score or {}
+        angles = score.get("angles") or {}
+        walkers = {}
+        for label, key in (
+            ("estimate", f"{'fit' if role == 'fit' else 'prediction'}_rmse_deg"),
+            ("nominal", "nominal_rmse_deg"),
+        ):
+            if angles.get(label) is not None:
+                walkers[f"{label} ({_deg(score[key])})"] = np.asarray(angles[label])
+        title = f"{record['subject']} {code} {role}\nskill {_num(score.get('skill'))}"
+        panels.append({"title": title, "human": humans[code], "walkers": walkers})
+    return plot_human_fits(panels, path)
+
+
+def _deg(value) -> str:
+    return "failed" if value is None or not np.isfinite(value) else f"{value:.1f} deg"
+
+
+def _num(value) -> str:
+    return "n/a" if value is None or not np.isfinite(value) else f"{value:.2f}"

@@ -1,0 +1,473 @@
+"""The human track's score: does a cost inferred at one speed predict the person's other speeds?
+
+Real walking has no true weights, so an estimate is scored by prediction (issue 26). A case
+is (subject, training speed, predicted speeds, algorithm, config, seed):
+
+1. **Fit.** The algorithm runs on the observation of the person's step at the training speed
+   (:func:`~ioc_bench.human.observe.human_observation`: the leg segments' angles and rates
+   only) with the subject's walker and the trial's task, through the same
+   :class:`~ioc_bench.ioc.problem.IOCProblem` as the synthetic cases; what it returns is
+   checked by the plugin contract. A raise or a broken answer is a recorded failure (status
+   ``failed`` with the reason), never an exception.
+2. **Forward solves.** At the training speed and at each predicted speed the subject's walker
+   is solved for that trial's task (speed and step length) with the estimated weights:
+   ``starts`` seeded multi-starts, the cheapest feasible optimum kept (the walker has several
+   families of optima for one cost, ``docs/human.md``; one start can land on a costlier one).
+   Nothing of the person's step at that speed is used to start it.
+3. **RMSE** in degrees of the four leg segments' angles against the person's step, knot by
+   knot (:func:`~ioc_bench.human.observe.segment_rmse_deg`): the *fit* at the training
+   speed, the *prediction* at the others.
+4. **References**, solved the same way at each speed: the *nominal* weights (all equal: what
+   a user without IOC would assume) and the *floor*, the lowest RMSE reached at that speed by
+   any weights tried there: the estimate, the nominal and the :data:`FLOOR_WEIGHTS`
+   directions. It is a floor over those weights only, not over every cost the model allows.
+5. **Skill** per speed, :func:`skill_score`: (nominal - method) / (nominal - floor).
+
+The nominal and floor solves depend only on the subject, the speed, the starts and the seed,
+so they are solved once per process and shared by every case that needs them.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+import traceback
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ioc_bench._version import __version__
+from ioc_bench.bench.scoring import unit
+from ioc_bench.checks import check_count, check_seed
+from ioc_bench.features import cost_features
+from ioc_bench.human.observe import human_observation, leg_angles, segment_rmse_deg
+from ioc_bench.human.step import HumanStep, human_step
+from ioc_bench.human.wbds import WbdsData, subject_number, table_speed_code
+from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.problem import IOCProblem
+from ioc_bench.ioc.registry import canonical_config, check_config, check_name, get_algorithm, make_algorithm
+from ioc_bench.model.walker import WALKER
+from ioc_bench.optimize import optimize_gait
+from ioc_bench.weights import parse_weights
+
+#: The features an IOC weighs on a human step: the walker's cost features (hip, knee, dtau).
+FEATURES: tuple[str, ...] = tuple(cost_features(WALKER))
+#: Label of the nominal reference (all weights equal).
+NOMINAL = "nominal"
+#: Weight directions also solved at every speed for the floor: the simplex lattice point
+#: that fit 9 of the 12 shipped trials best in ``docs/human.md`` (hip, knee, dtau = 1, 4, 0).
+FLOOR_WEIGHTS: tuple[str, ...] = ("1,4,0",)
+#: Multi-start size of every forward solve (start 0 is the rough periodic guess).
+DEFAULT_STARTS = 3
+#: Most starts a case may ask for.
+MAX_STARTS = 50
+#: RMSE difference (deg) below which two fits count as equal in :func:`skill_score`.
+SKILL_TOL = 1e-6
+#: The shipped subjects and treadmill speeds.
+SHIPPED_SUBJECTS: tuple[str, ...] = ("WBDS01", "WBDS02", "WBDS03")
+SPEED_CODES: tuple[str, ...] = ("T03", "T04", "T05", "T06")
+#: The built-in algorithms (``ioc-bench algorithms``).
+BUILTINS: tuple[str, ...] = ("log-barrier", "analytic-center", "inverse-kkt", "bilevel", "single-level")
+
+
+def skill_score(method: float, nominal: float, floor: float) -> float:
+    """(nominal - method) / (nominal - floor): 1 when the method reaches the floor, 0 when it
+    does as well as the nominal weights, negative when it does worse.
+
+    When the nominal weights are the floor (within :data:`SKILL_TOL`) there was nothing to
+    gain: the skill is 0 if the method matches them, and undefined (NaN) if it does worse,
+    since any negative number would be arbitrary; an undefined skill never counts as beating
+    the nominal. NaN also when any RMSE is not finite (a failed solve).
+
+    Raises:
+        ValueError: ``floor`` above ``method`` or ``nominal`` (it is their minimum or lower).
+    """
+    values = np.array([method, nominal, floor], dtype=float)
+    if not np.all(np.isfinite(values)):
+        return float("nan")
+    if floor > min(method, nominal) + SKILL_TOL:
+        raise ValueError(f"the floor {floor} is above the method's {method} or the nominal {nominal} RMSE")
+    span = nominal - floor
+    if span > SKILL_TOL:
+        return float((nominal - method) / span)
+    return 0.0 if method <= nominal + SKILL_TOL else float("nan")
+
+
+# -- cases ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class HumanCaseSpec:
+    """One case of the human track, checked when made (``ValueError``, one line).
+
+    Attributes:
+        subject: ``WBDSnn``.
+        train: the training speed's code (``T0n``).
+        predict: the predicted speeds' codes (not the training speed, no repeats).
+        algorithm: a registered algorithm's name.
+        seed: seed of the algorithm and of every forward multi-start.
+        config: the algorithm's config overrides (stored canonical).
+        starts: multi-start size of every forward solve.
+        floor_weights: extra weight directions solved at every speed for the floor.
+    """
+
+    subject: str
+    train: str
+    predict: tuple[str, ...]
+    algorithm: str
+    seed: int = 0
+    config: Mapping[str, Any] = field(default_factory=dict)
+    starts: int = DEFAULT_STARTS
+    floor_weights: tuple[str, ...] = FLOOR_WEIGHTS
+
+    def __post_init__(self) -> None:
+        subject_number(self.subject)
+        table_speed_code(self.train)
+        if isinstance(self.predict, str) or not isinstance(self.predict, Sequence):
+            raise ValueError(f"predict must be a sequence of speed codes, got {self.predict!r}")
+        object.__setattr__(self, "predict", tuple(self.predict))
+        for code in self.predict:
+            table_speed_code(code)
+        if self.train in self.predict:
+            raise ValueError(f"the training speed {self.train} is also a predicted speed")
+        if len(set(self.predict)) != len(self.predict):
+            raise ValueError(f"a predicted speed is repeated in {', '.join(self.predict)}")
+        check_name(self.algorithm)
+        object.__setattr__(self, "seed", check_seed(self.seed))
+        object.__setattr__(self, "starts", check_count(self.starts, "starts", maximum=MAX_STARTS))
+        object.__setattr__(self, "floor_weights", tuple(self.floor_weights))
+        for text in self.floor_weights:
+            parse_weights(text, FEATURES)
+        config = check_config(self.config)
+        object.__setattr__(self, "config", canonical_config(self.algorithm, config) if config else {})
+
+    @property
+    def speeds(self) -> tuple[str, ...]:
+        """The training speed, then the predicted ones."""
+        return (self.train, *self.predict)
+
+    @property
+    def key(self) -> str:
+        """Relative path of the case's result file, without suffix."""
+        name = f"{self.subject}_{self.train}__predict-{'-'.join(self.predict) or 'none'}__seed{self.seed}"
+        options = {"config": dict(self.config), "starts": self.starts, "floor": list(self.floor_weights)}
+        if options != {"config": {}, "starts": DEFAULT_STARTS, "floor": list(FLOOR_WEIGHTS)}:
+            name += "__cfg" + hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:8]
+        return f"{self.algorithm}/{name}"
+
+    def identity(self) -> dict[str, Any]:
+        """The fields naming the case (what a result file must match to be this case's)."""
+        return {
+            "subject": self.subject,
+            "train": self.train,
+            "predict": list(self.predict),
+            "algorithm": self.algorithm,
+            "seed": self.seed,
+            "config": dict(self.config),
+            "starts": self.starts,
+            "floor_weights": list(self.floor_weights),
+        }
+
+
+#: The quick check: one subject, one training speed, one predicted speed, two families.
+HUMAN_SMOKE: tuple[HumanCaseSpec, ...] = tuple(
+    HumanCaseSpec("WBDS01", "T05", ("T04",), algorithm) for algorithm in ("inverse-kkt", "bilevel")
+)
+#: The track: every shipped subject, each speed as training speed (predicting the other
+#: three), every built-in algorithm.
+HUMAN: tuple[HumanCaseSpec, ...] = tuple(
+    HumanCaseSpec(subject, train, tuple(s for s in SPEED_CODES if s != train), algorithm)
+    for subject in SHIPPED_SUBJECTS
+    for train in SPEED_CODES
+    for algorithm in BUILTINS
+)
+#: The case lists by name (``ioc-bench human --suite NAME``).
+HUMAN_SUITES: dict[str, tuple[HumanCaseSpec, ...]] = {"human-smoke": HUMAN_SMOKE, "human": HUMAN}
+
+
+# -- forward solves ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class SolvedStep:
+    """The walker's optimal step for some weights at one human trial's task, and its fit."""
+
+    label: str
+    status: str
+    success: bool
+    objective: float
+    rmse_deg: float
+    angles: np.ndarray | None
+    wall_time: float
+
+    def summary(self) -> dict[str, Any]:
+        return {"status": self.status, "objective": self.objective, "rmse_deg": self.rmse_deg}
+
+
+def solve_step(weights: Any, step: HumanStep, starts: int, seed: int, label: str = "") -> SolvedStep:
+    """The cheapest feasible optimum of ``starts`` seeded starts for ``weights`` (over
+    :data:`FEATURES`) on the subject's walker at ``step``'s task; a failed solve is a result."""
+    t0 = time.perf_counter()
+    demo = optimize_gait(weights, step.params, step.task, starts=starts, seed=seed, workers=1, verify=False)
+    ok = bool(demo.solver.success)
+    return SolvedStep(
+        label=label,
+        status=demo.solver.status,
+        success=ok,
+        objective=float(demo.solver.objective),
+        rmse_deg=segment_rmse_deg(demo.trajectory, step) if ok else float("nan"),
+        angles=leg_angles(demo.trajectory) if ok else None,
+        wall_time=time.perf_counter() - t0,
+    )
+
+
+_REFERENCES: dict[tuple, SolvedStep] = {}
+
+
+def reference_step(step: HumanStep, weights: str, starts: int, seed: int) -> SolvedStep:
+    """:func:`solve_step` for named reference weights, solved once per process and step."""
+    params = json.dumps(step.params.to_dict(), sort_keys=True, default=str)
+    key = (
+        step.subject,
+        step.speed_code,
+        step.task.speed,
+        step.task.step_length,
+        params,
+        step.angles.tobytes(),
+        weights,
+        starts,
+        seed,
+    )
+    if key not in _REFERENCES:
+        numbers = (1.0,) * len(FEATURES) if weights == NOMINAL else weights
+        _REFERENCES[key] = solve_step(numbers, step, starts, seed, weights)
+    return _REFERENCES[key]
+
+
+@dataclass(frozen=True, eq=False)
+class SpeedScore:
+    """The estimate's step at one speed against the person's and the references'.
+
+    Attributes:
+        speed_code: the trial's speed code.
+        speed, step_length: its task, walker units.
+        estimate: the estimated weights' step.
+        references: the nominal's and each floor direction's step, by label.
+        floor_rmse_deg: the lowest RMSE of the estimate and the references.
+        floor_label: which weights reached it (``estimate``, ``nominal`` or a direction).
+        skill: :func:`skill_score` of the estimate.
+    """
+
+    speed_code: str
+    speed: float
+    step_length: float
+    estimate: SolvedStep
+    references: dict[str, SolvedStep]
+    floor_rmse_deg: float
+    floor_label: str
+    skill: float
+
+    @property
+    def nominal_rmse_deg(self) -> float:
+        return self.references[NOMINAL].rmse_deg
+
+    def to_dict(self, role: str, angles: bool = True) -> dict[str, Any]:
+        """The record of this speed; ``role`` names the RMSE (``fit`` or ``prediction``)."""
+        out = {
+            f"{role}_rmse_deg": self.estimate.rmse_deg,
+            "nominal_rmse_deg": self.nominal_rmse_deg,
+            "floor_rmse_deg": self.floor_rmse_deg,
+            "floor_weights": self.floor_label,
+            "skill": self.skill,
+            "status": self.estimate.status,
+            "objective": self.estimate.objective,
+            "speed": self.speed,
+            "step_length": self.step_length,
+            "solve_time": self.estimate.wall_time,
+            "references": {k: v.summary() for k, v in self.references.items()},
+        }
+        if angles:
+            out["angles"] = {
+                k: _rounded(v.angles) for k, v in (("estimate", self.estimate), (NOMINAL, self.references[NOMINAL]))
+            }
+        return out
+
+
+def _rounded(angles: np.ndarray | None) -> list | None:
+    return None if angles is None else np.round(angles, 5).tolist()
+
+
+def score_speed(
+    weights: np.ndarray,
+    step: HumanStep,
+    starts: int = DEFAULT_STARTS,
+    seed: int = 0,
+    floor_weights: Sequence[str] = FLOOR_WEIGHTS,
+) -> SpeedScore:
+    """Solve ``weights`` at ``step``'s task, the references beside them, and score the fit."""
+    estimate = solve_step(np.asarray(weights, dtype=float), step, starts, seed, "estimate")
+    refs = {label: reference_step(step, label, starts, seed) for label in (NOMINAL, *floor_weights)}
+    tried = {"estimate": estimate.rmse_deg} | {label: r.rmse_deg for label, r in refs.items()}
+    finite = {label: rmse for label, rmse in tried.items() if np.isfinite(rmse)}
+    floor_label = min(finite, key=finite.__getitem__) if finite else ""
+    floor = finite.get(floor_label, float("nan"))
+    return SpeedScore(
+        speed_code=step.speed_code,
+        speed=float(step.task.speed),
+        step_length=float(step.task.step_length),
+        estimate=estimate,
+        references=refs,
+        floor_rmse_deg=floor,
+        floor_label=floor_label,
+        skill=skill_score(estimate.rmse_deg, refs[NOMINAL].rmse_deg, floor),
+    )
+
+
+def score_weights(
+    weights: Any,
+    steps: Mapping[str, HumanStep],
+    starts: int = DEFAULT_STARTS,
+    seed: int = 0,
+    floor_weights: Sequence[str] = FLOOR_WEIGHTS,
+) -> dict[str, SpeedScore]:
+    """Score weights over :data:`FEATURES` at each step (by speed code) of one subject.
+
+    Raises:
+        ValueError: no steps, steps of different subjects or walkers (weights learnt on one
+            person's walker say nothing of another's steps), a key that is not its step's
+            speed code, or weights that are not over :data:`FEATURES`.
+    """
+    steps = dict(steps)
+    if not steps:
+        raise ValueError("no steps to score")
+    _check_one_subject(steps)
+    w = parse_weights(weights, FEATURES)
+    check_count(starts, "starts", maximum=MAX_STARTS)
+    check_seed(seed)
+    return {code: score_speed(w, step, starts, seed, floor_weights) for code, step in steps.items()}
+
+
+def _check_one_subject(steps: Mapping[str, HumanStep]) -> None:
+    first = next(iter(steps.values()))
+    for code, step in steps.items():
+        if not isinstance(step, HumanStep):
+            raise ValueError(f"steps must be HumanStep values, got {type(step).__name__} for {code!r}")
+        if step.speed_code != code:
+            raise ValueError(f"the step under {code!r} is {step.subject}'s step at {step.speed_code}")
+        if step.subject != first.subject or step.params.to_dict() != first.params.to_dict():
+            raise ValueError(f"steps of different subjects or walkers: {first.subject} and {step.subject}")
+
+
+# -- running a case ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """What the algorithm returned on the training step (weights NaN if it failed)."""
+
+    status: str
+    reason: str
+    weights: tuple[float, ...]
+    wall_time: float
+    n_solves: int
+    notes: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def failed(self) -> bool:
+        return self.status == "failed"
+
+
+def fit_human(spec: HumanCaseSpec, step: HumanStep) -> Estimate:
+    """Run ``spec``'s algorithm on the observation of ``step`` (one problem, seeded by the
+    case); an exception or an answer the plugin contract refuses is a failed estimate."""
+    algo = make_algorithm(spec.algorithm, **spec.config)
+    problem = IOCProblem(human_observation(step), FEATURES, step.params, step.task, seed=spec.seed)
+    nan = (float("nan"),) * len(FEATURES)
+    t0 = time.perf_counter()
+    try:
+        result = algo.fit(problem)
+    except Exception as exc:  # the algorithm's fault is a recorded result, not a crash
+        last = traceback.extract_tb(exc.__traceback__)[-1]
+        reason = f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})"
+        return Estimate("failed", reason, nan, time.perf_counter() - t0, problem.stats.forward_solves)
+    wall = time.perf_counter() - t0
+    reason = check_result(result, problem.n_features)
+    if reason:
+        return Estimate("failed", reason, nan, wall, problem.stats.forward_solves)
+    weights = tuple(float(x) for x in unit(np.asarray(result.weights, dtype=float)))
+    return Estimate(result.status, "", weights, wall, problem.stats.forward_solves, dict(result.notes))
+
+
+@dataclass(frozen=True, eq=False)
+class HumanResult:
+    """The record of one human case: the estimate, its fit and its predictions."""
+
+    spec: HumanCaseSpec
+    family: str
+    estimate: Estimate
+    speeds: dict[str, SpeedScore]
+    scoring_time: float
+    version: str = __version__
+
+    @property
+    def failed(self) -> bool:
+        return self.estimate.failed
+
+    @property
+    def fit_rmse_deg(self) -> float:
+        score = self.speeds.get(self.spec.train)
+        return score.estimate.rmse_deg if score else float("nan")
+
+    def to_dict(self, angles: bool = True) -> dict[str, Any]:
+        """The JSON record (``angles``: with each speed's walker angles, rad, for figures)."""
+        fit = self.speeds.get(self.spec.train)
+        return self.spec.identity() | {
+            "family": self.family,
+            "features": list(FEATURES),
+            "status": self.estimate.status,
+            "reason": self.estimate.reason,
+            "weights": list(self.estimate.weights),
+            "fit_rmse_deg": self.fit_rmse_deg,
+            "fit": fit.to_dict("fit", angles) if fit else None,
+            "predictions": {
+                c: self.speeds[c].to_dict("prediction", angles) for c in self.spec.predict if c in self.speeds
+            },
+            "wall_time": self.estimate.wall_time,
+            "n_solves": self.estimate.n_solves,
+            "scoring_time": self.scoring_time,
+            "notes": self.estimate.notes,
+            "version": self.version,
+        }
+
+
+def load_steps(spec: HumanCaseSpec, data: WbdsData | None = None) -> dict[str, HumanStep]:
+    """Every step ``spec`` needs, read and checked (``WbdsDataError`` names a bad file)."""
+    data = data or WbdsData()
+    return {code: human_step(data.trial(spec.subject, code)) for code in spec.speeds}
+
+
+def run_human_case(spec: HumanCaseSpec, data: WbdsData | None = None) -> HumanResult:
+    """Run and score one case (see the module docstring).
+
+    Raises:
+        ValueError: bad input before any solve (a file missing or malformed, an unknown
+            algorithm or config); the algorithm's faults are recorded, not raised.
+    """
+    steps = load_steps(spec, data)
+    make_algorithm(spec.algorithm, **spec.config)  # the name and the config, before any work
+    estimate = fit_human(spec, steps[spec.train])
+    t0 = time.perf_counter()
+    speeds = {}
+    if not estimate.failed:
+        speeds = score_weights(estimate.weights, steps, spec.starts, spec.seed, spec.floor_weights)
+    family = get_algorithm(spec.algorithm).family
+    return HumanResult(spec, family, estimate, speeds, time.perf_counter() - t0)
+
+
+def finite_or_none(value: float) -> float | None:
+    """``value`` or None when it is NaN or infinite (for summaries)."""
+    return value if isinstance(value, (int, float)) and math.isfinite(value) else None
