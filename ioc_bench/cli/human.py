@@ -65,9 +65,31 @@ def run(args: argparse.Namespace) -> int:
     steps = _steps(specs, data)
     out = output_dir(args.out) if args.out is not None else None
     results = [_run_one(spec, data, steps, out, args.json) for spec in specs]
-    if args.json:
-        print_json(results[0] if args.suite is None else {"suite": args.suite, "cases": results})
+    if args.suite is not None:
+        _report_suite(args.suite, results, out, args.json)
+    elif args.json:
+        print_json(results[0])
     return 1 if any(r["status"] == "failed" for r in results) else 0
+
+
+def _report_suite(name: str, results: list[dict], out: Path | None, as_json: bool) -> None:
+    """The run's summary per algorithm: printed, and written to ``--out/summary.json``."""
+    from ioc_bench.fileio import atomic_write_json
+    from ioc_bench.human.track import summarize
+
+    summary = {"suite": name, "algorithms": summarize(results)}
+    if out is not None:
+        atomic_write_json(out / "summary.json", summary)
+    if as_json:
+        print_json(summary | {"cases": results})
+        return
+    print(f"{name}: {len(results)} cases")
+    for algorithm, row in summary["algorithms"].items():
+        print(
+            f"  {algorithm:16s} fit {_f(row['fit_rmse_deg'])} deg  prediction {_f(row['prediction_rmse_deg'])} deg  "
+            f"beat nominal {row['beat_nominal']}/{row['predictions']}  median skill {_f(row['median_skill'], 2)} "
+            f"(run floor {_f(row['median_skill_run_floor'], 2)})  failed {row['failed']}  {row['time_s']:.0f} s"
+        )
 
 
 def _list(suites: dict, as_json: bool) -> int:

@@ -468,6 +468,81 @@ def run_human_case(spec: HumanCaseSpec, data: WbdsData | None = None) -> HumanRe
     return HumanResult(spec, family, estimate, speeds, time.perf_counter() - t0)
 
 
-def finite_or_none(value: float) -> float | None:
-    """``value`` or None when it is NaN or infinite (for summaries)."""
-    return value if isinstance(value, (int, float)) and math.isfinite(value) else None
+# -- a run of many cases -------------------------------------------------------------------
+
+
+def _method_rmse(score: Mapping[str, Any]) -> float | None:
+    return score.get("fit_rmse_deg", score.get("prediction_rmse_deg"))
+
+
+def _speed_scores(record: Mapping[str, Any]) -> list[tuple[str, str, Mapping[str, Any]]]:
+    """(role, speed code, score) of a record's fit and predictions (none for a failed case)."""
+    out = [("fit", record["train"], record["fit"])] if record.get("fit") else []
+    return out + [("prediction", code, s) for code, s in (record.get("predictions") or {}).items()]
+
+
+def run_floors(records: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str], float]:
+    """The floor over a whole run: per (subject, speed), the lowest RMSE of any weights solved
+    there by any case (every algorithm's estimate, trained there or elsewhere, the nominal and
+    the floor directions)."""
+    floors: dict[tuple[str, str], float] = {}
+    for record in records:
+        for _, code, score in _speed_scores(record):
+            values = [_method_rmse(score), *(r.get("rmse_deg") for r in score.get("references", {}).values())]
+            for value in values:
+                if value is not None and math.isfinite(value):
+                    key = (record["subject"], code)
+                    floors[key] = min(floors.get(key, math.inf), value)
+    return floors
+
+
+def summarize(records: Sequence[Mapping[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Per algorithm over case records (:meth:`HumanResult.to_dict`): cases, failures, mean fit
+    and prediction RMSE, predictions beating the nominal, the median skill against each case's
+    own floor and against the run's floor (:func:`run_floors`), and the time spent."""
+    floors = run_floors(records)
+    by_algorithm: dict[str, list[Mapping[str, Any]]] = {}
+    for record in records:
+        by_algorithm.setdefault(record["algorithm"], []).append(record)
+    return {name: _summary(cases, floors) for name, cases in by_algorithm.items()}
+
+
+def _summary(cases: Sequence[Mapping[str, Any]], floors: Mapping[tuple[str, str], float]) -> dict[str, Any]:
+    fits, preds, skills, run_skills = [], [], [], []
+    for record in cases:
+        for role, code, score in _speed_scores(record):
+            method = _method_rmse(score)
+            if role == "fit":
+                fits.append(method)
+                continue
+            preds.append(method)
+            skills.append(score.get("skill"))
+            floor = floors.get((record["subject"], code))
+            nominal = score.get("nominal_rmse_deg")
+            ok = None not in (method, nominal, floor)
+            run_skills.append(skill_score(method, nominal, floor) if ok else float("nan"))
+    return {
+        "cases": len(cases),
+        "failed": sum(r["status"] == "failed" for r in cases),
+        "fit_rmse_deg": _mean(fits),
+        "prediction_rmse_deg": _mean(preds),
+        "predictions": len(preds),
+        "beat_nominal": sum(s is not None and math.isfinite(s) and s > 0 for s in run_skills),
+        "median_skill": _median(skills),
+        "median_skill_run_floor": _median(run_skills),
+        "time_s": sum(r.get("wall_time", 0.0) + r.get("scoring_time", 0.0) for r in cases),
+    }
+
+
+def _finite(values: Sequence[float | None]) -> list[float]:
+    return [v for v in values if v is not None and math.isfinite(v)]
+
+
+def _mean(values: Sequence[float | None]) -> float:
+    kept = _finite(values)
+    return float(np.mean(kept)) if kept else float("nan")
+
+
+def _median(values: Sequence[float | None]) -> float:
+    kept = _finite(values)
+    return float(np.median(kept)) if kept else float("nan")

@@ -18,8 +18,10 @@ from ioc_bench.human.track import (
     SHIPPED_SUBJECTS,
     SPEED_CODES,
     HumanCaseSpec,
+    run_floors,
     score_weights,
     skill_score,
+    summarize,
 )
 from ioc_bench.ioc.registry import algorithms
 from ioc_bench.optimize import optimize_gait
@@ -108,3 +110,34 @@ def test_a_synthetic_person_scores_the_true_weights_best_and_wrong_weights_worst
     assert wrong.estimate.rmse_deg > nominal
     assert wrong.floor_label == "1,4,0" and wrong.floor_rmse_deg < 1e-6  # the truth, as a floor direction
     assert wrong.skill == pytest.approx((nominal - wrong.estimate.rmse_deg) / nominal) and wrong.skill < 0
+
+
+def _record(algorithm: str, fit: float, pred: float, nominal: float, skill: float | None) -> dict:
+    refs = {NOMINAL: {"rmse_deg": nominal}}
+    return {
+        "algorithm": algorithm,
+        "subject": "WBDS01",
+        "train": "T05",
+        "status": "converged",
+        "wall_time": 1.0,
+        "scoring_time": 2.0,
+        "fit": {"fit_rmse_deg": fit, "nominal_rmse_deg": 9.0, "skill": 0.0, "references": {NOMINAL: {"rmse_deg": 9.0}}},
+        "predictions": {
+            "T04": {"prediction_rmse_deg": pred, "nominal_rmse_deg": nominal, "skill": skill, "references": refs}
+        },
+    }
+
+
+def test_the_run_summary_uses_the_lowest_rmse_of_any_case_as_floor() -> None:
+    """At T04 one algorithm predicts 6 deg, the other 12, against a nominal of 10: over the
+    run the floor is 6, so the second's skill is (10 - 12) / (10 - 6) = -0.5, although its
+    own case (floor = nominal) could not define one."""
+    records = [_record("a", 7.0, 6.0, 10.0, 1.0), _record("b", 8.0, 12.0, 10.0, None)]
+    assert run_floors(records) == {("WBDS01", "T05"): 7.0, ("WBDS01", "T04"): 6.0}
+    summary = summarize(records)
+    assert summary["a"]["beat_nominal"] == 1 and summary["b"]["beat_nominal"] == 0
+    assert summary["b"]["median_skill_run_floor"] == pytest.approx(-0.5)
+    assert math.isnan(summary["b"]["median_skill"])
+    assert summary["a"]["fit_rmse_deg"] == 7.0 and summary["a"]["time_s"] == 3.0
+    failed = {"algorithm": "a", "subject": "WBDS01", "train": "T05", "status": "failed", "fit": None, "predictions": {}}
+    assert summarize([*records, failed])["a"]["failed"] == 1
