@@ -120,3 +120,33 @@ def test_one_small_case_end_to_end_and_resumed(capsys, tmp_path) -> None:
     finally:
         track.run_human_case = track_run
     assert json.loads(capsys.readouterr().out)["fit_rmse_deg"] == report["fit_rmse_deg"]
+
+
+def test_a_suite_resumes_finished_cases_and_writes_its_summary(capsys, tmp_path, monkeypatch) -> None:
+    """human-smoke with both cases already in --out: nothing is solved, the summary is written."""
+    import ioc_bench.human.track as track
+
+    def no_solve(*_args, **_kwargs):
+        raise AssertionError("a finished case was run again")
+
+    monkeypatch.setattr(track, "run_human_case", no_solve)
+    out = tmp_path / "out"
+    for i, spec in enumerate(HUMAN_SMOKE):
+        score = {"nominal_rmse_deg": 9.0, "floor_rmse_deg": 7.0, "skill": 0.5, "references": {}, "status": "ok"}
+        record = spec.identity() | {
+            "status": "converged",
+            "fit": score | {"fit_rmse_deg": 7.0 + i},
+            "predictions": {"T04": score | {"prediction_rmse_deg": 8.0 + 2 * i}},
+            "wall_time": 1.0,
+            "scoring_time": 1.0,
+        }
+        path = out / f"{spec.key}.json"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(record))
+    assert main(["human", "--suite", "human-smoke", "--out", str(out), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert [c["algorithm"] for c in report["cases"]] == ["inverse-kkt", "bilevel"]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["algorithms"]["inverse-kkt"]["beat_nominal"] == 1  # 8 deg against nominal 9
+    assert summary["algorithms"]["bilevel"]["beat_nominal"] == 0  # 10 deg against nominal 9
+    assert summary == {k: report[k] for k in ("suite", "algorithms")}
