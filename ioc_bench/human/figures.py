@@ -24,7 +24,7 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
     if not panels:
         raise ValueError("no panels to plot")
     fig, axes = plt.subplots(len(panels), 4, figsize=(13, 2.4 * len(panels)), sharex=True, squeeze=False)
-    for row, panel in zip(axes, panels):
+    for i, (row, panel) in enumerate(zip(axes, panels)):
         human = np.degrees(np.asarray(panel["human"]))
         s = np.linspace(0, 100, human.shape[0])
         for j, ax in enumerate(row):
@@ -32,7 +32,7 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
             for style, (label, angles) in zip(_STYLES, panel["walkers"].items()):
                 ax.plot(s, np.degrees(np.asarray(angles))[:, j], style, lw=1.5, label=label)
             ax.axhline(0, color="0.8", lw=0.5)
-            if row is axes[0]:
+            if i == 0:  # (``row is axes[0]`` is never true: indexing makes a new array)
                 ax.set_title(LEG_SEGMENTS[j].replace("_", " "))
             if j == 0:
                 ax.set_ylabel(f"{panel['title']}\nangle (deg)", fontsize=8)
