@@ -339,7 +339,7 @@ def score_weights(
     Raises:
         ValueError: no steps, steps of different subjects or walkers (weights learnt on one
             person's walker say nothing of another's steps), a key that is not its step's
-            speed code, or weights that are not over :data:`FEATURES`.
+            speed code, or weights (or floor directions) that are not over :data:`FEATURES`.
     """
     steps = dict(steps)
     if not steps:
@@ -348,6 +348,8 @@ def score_weights(
     w = parse_weights(weights, FEATURES)
     check_count(starts, "starts", maximum=MAX_STARTS)
     check_seed(seed)
+    for text in floor_weights:  # before any solve, not when the first reference is solved
+        parse_weights(text, FEATURES)
     return {code: score_speed(w, step, starts, seed, floor_weights) for code, step in steps.items()}
 
 

@@ -89,6 +89,8 @@ def test_the_scorer_refuses_steps_of_another_subject() -> None:
         score_weights((1, 1, 1), {"T04": mine})
     with pytest.raises(ValueError):
         score_weights((1, 1), {"T05": mine})
+    with pytest.raises(ValueError):
+        score_weights((1, 1, 1), {"T05": mine}, floor_weights=("1,x,0",))
 
 
 def test_a_synthetic_person_scores_the_true_weights_best_and_wrong_weights_worst() -> None:
