@@ -2,7 +2,8 @@
 speed, predict the same person's other speeds, and score the predictions against the
 nominal weights and the floor (``docs/human.md``).
 
-One case: ``--subject WBDS01 --train T05 --predict T03,T04,T06 --algorithm bilevel``. A case
+One case: ``--subject WBDS01 --train T05 --predict T03,T04,T06 --algorithm bilevel``
+(``--train T04,T05`` gives the algorithm both speeds' steps at once, for one cost). A case
 list: ``--suite human-smoke`` (or ``human``), which resumes: a case whose result is already
 in ``--out`` is not run again. ``--list`` prints the case lists. With ``--out DIR`` each case's
 JSON result (``ALGORITHM/CASE.json``) and its figure (``.png`` beside it) are written there,
@@ -39,7 +40,8 @@ MAX_RESULT_BYTES = 10_000_000
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("human", help="infer a cost from human walking, predict other speeds", description=__doc__)
     p.add_argument("--subject", help="WBDS subject code, e.g. WBDS01")
-    p.add_argument("--train", help="training speed code, e.g. T05")
+    train_help = "training speed code, e.g. T05; several, comma-separated, are given to the algorithm at once"
+    p.add_argument("--train", help=train_help)
     p.add_argument("--predict", help="predicted speed codes, comma-separated (default: the other shipped speeds)")
     p.add_argument("--algorithm", default="bilevel", help="registered algorithm (default bilevel)")
     p.add_argument("--config", type=json_object, default={}, help="algorithm config overrides as JSON")
@@ -126,10 +128,13 @@ def _specs(args: argparse.Namespace) -> list:
         return specs
     if args.subject is None or args.train is None:
         raise UsageError("name a case with --subject and --train (or run --suite NAME, or --list)")
-    predict = args.predict.split(",") if args.predict is not None else [s for s in SPEED_CODES if s != args.train]
+    train = [t.strip() for t in args.train.split(",")]
+    predict = args.predict.split(",") if args.predict is not None else [s for s in SPEED_CODES if s not in train]
     with usage_errors():
         codes = tuple(p.strip() for p in predict)
-        spec = HumanCaseSpec(args.subject, args.train, codes, args.algorithm, config=args.config, **options)
+        spec = HumanCaseSpec(
+            args.subject, train[0], codes, args.algorithm, config=args.config, also_train=tuple(train[1:]), **options
+        )
         make_algorithm(spec.algorithm, **spec.config)  # the name and every config field
     return [spec]
 
@@ -197,7 +202,8 @@ def _finished(path: Path | None, spec) -> dict | None:
 
 def _without_angles(record: dict) -> dict:
     record = json.loads(json.dumps(record))
-    for score in [record.get("fit") or {}, *(record.get("predictions") or {}).values()]:
+    scores = [record.get("fit") or {}, *(record.get("also_fit") or {}).values()]
+    for score in [*scores, *(record.get("predictions") or {}).values()]:
         score.pop("angles", None)
     return record
 
@@ -211,6 +217,7 @@ def _print(record: dict) -> None:
         f"in {record['wall_time']:.1f} s, {record['n_solves']} solves"
     )
     rows = [("fit", record["train"], record.get("fit"))]
+    rows += [("fit", c, s) for c, s in (record.get("also_fit") or {}).items()]
     rows += [("predict", c, s) for c, s in (record.get("predictions") or {}).items()]
     for role, code, score in rows:
         if not score:

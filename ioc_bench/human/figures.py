@@ -51,6 +51,7 @@ def plot_human_case(record: Mapping, humans: Mapping[str, np.ndarray], path: str
     with angles), ``humans`` the person's (T, 4) angles by speed code.
     """
     rows = [("fit", record["train"], record.get("fit"))]
+    rows += [("fit", code, score) for code, score in (record.get("also_fit") or {}).items()]
     rows += [("predicted", code, record.get("predictions", {}).get(code)) for code in record["predict"]]
     panels = []
     for role, code, score in rows:

@@ -8,7 +8,9 @@ is (subject, training speed, predicted speeds, algorithm, config, seed):
    only) with the subject's walker and the trial's task, through the same
    :class:`~ioc_bench.ioc.problem.IOCProblem` as the synthetic cases; what it returns is
    checked by the plugin contract. A raise or a broken answer is a recorded failure (status
-   ``failed`` with the reason), never an exception.
+   ``failed`` with the reason), never an exception. With further training speeds
+   (``also_train``) the algorithm gets every training step at once, as a
+   :class:`~ioc_bench.ioc.problem.MultiTrialProblem` (one cost for several trials).
 2. **Forward solves.** At the training speed and at each predicted speed the subject's walker
    is solved for that trial's task (speed and step length) with the estimated weights:
    ``starts`` seeded multi-starts, the cheapest feasible optimum kept (the walker has several
@@ -48,7 +50,7 @@ from ioc_bench.human.observe import human_observation, leg_angles, segment_rmse_
 from ioc_bench.human.step import HumanStep, human_step
 from ioc_bench.human.wbds import WbdsData, subject_number, table_speed_code
 from ioc_bench.ioc.contract import check_result
-from ioc_bench.ioc.problem import IOCProblem
+from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import canonical_config, check_config, check_name, get_algorithm, make_algorithm
 from ioc_bench.model.walker import WALKER
 from ioc_bench.optimize import optimize_gait
@@ -113,6 +115,9 @@ class HumanCaseSpec:
         config: the algorithm's config overrides (stored canonical).
         starts: multi-start size of every forward solve.
         floor_weights: extra weight directions solved at every speed for the floor.
+        also_train: further training speeds: the algorithm is given every training speed's
+            step at once (a :class:`~ioc_bench.ioc.problem.MultiTrialProblem`: one cost for
+            several trials); ``train`` stays the one ``fit_rmse_deg`` reports.
     """
 
     subject: str
@@ -123,17 +128,26 @@ class HumanCaseSpec:
     config: Mapping[str, Any] = field(default_factory=dict)
     starts: int = DEFAULT_STARTS
     floor_weights: tuple[str, ...] = FLOOR_WEIGHTS
+    also_train: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         subject_number(self.subject)
         table_speed_code(self.train)
+        if isinstance(self.also_train, str) or not isinstance(self.also_train, Sequence):
+            raise ValueError(f"also_train must be a sequence of speed codes, got {self.also_train!r}")
+        object.__setattr__(self, "also_train", tuple(self.also_train))
+        for code in self.also_train:
+            table_speed_code(code)
+        if len(set(self.training)) != len(self.training):
+            raise ValueError(f"a training speed is repeated in {', '.join(self.training)}")
         if isinstance(self.predict, str) or not isinstance(self.predict, Sequence):
             raise ValueError(f"predict must be a sequence of speed codes, got {self.predict!r}")
         object.__setattr__(self, "predict", tuple(self.predict))
         for code in self.predict:
             table_speed_code(code)
-        if self.train in self.predict:
-            raise ValueError(f"the training speed {self.train} is also a predicted speed")
+        both = [code for code in self.training if code in self.predict]
+        if both:
+            raise ValueError(f"the training speed {both[0]} is also a predicted speed")
         if len(set(self.predict)) != len(self.predict):
             raise ValueError(f"a predicted speed is repeated in {', '.join(self.predict)}")
         check_name(self.algorithm)
@@ -146,22 +160,29 @@ class HumanCaseSpec:
         object.__setattr__(self, "config", canonical_config(self.algorithm, config) if config else {})
 
     @property
+    def training(self) -> tuple[str, ...]:
+        """Every training speed: ``train``, then ``also_train``."""
+        return (self.train, *self.also_train)
+
+    @property
     def speeds(self) -> tuple[str, ...]:
-        """The training speed, then the predicted ones."""
-        return (self.train, *self.predict)
+        """The training speeds, then the predicted ones."""
+        return (*self.training, *self.predict)
 
     @property
     def key(self) -> str:
         """Relative path of the case's result file, without suffix."""
-        name = f"{self.subject}_{self.train}__predict-{'-'.join(self.predict) or 'none'}__seed{self.seed}"
+        name = f"{self.subject}_{'+'.join(self.training)}__predict-{'-'.join(self.predict) or 'none'}__seed{self.seed}"
         options = {"config": dict(self.config), "starts": self.starts, "floor": list(self.floor_weights)}
         if options != {"config": {}, "starts": DEFAULT_STARTS, "floor": list(FLOOR_WEIGHTS)}:
             name += "__cfg" + hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:8]
         return f"{self.algorithm}/{name}"
 
     def identity(self) -> dict[str, Any]:
-        """The fields naming the case (what a result file must match to be this case's)."""
-        return {
+        """The fields naming the case (what a result file must match to be this case's);
+        ``also_train`` only when there are further training speeds."""
+        extra = {"also_train": list(self.also_train)} if self.also_train else {}
+        return extra | {
             "subject": self.subject,
             "train": self.train,
             "predict": list(self.predict),
@@ -383,12 +404,19 @@ class Estimate:
         return self.status == "failed"
 
 
-def fit_human(spec: HumanCaseSpec, step: HumanStep) -> Estimate:
-    """Run ``spec``'s algorithm on the observation of ``step`` (one problem, seeded by the
-    case); an exception or an answer the plugin contract refuses is a failed estimate."""
+def fit_human(spec: HumanCaseSpec, steps: Sequence[HumanStep]) -> Estimate:
+    """Run ``spec``'s algorithm on the observation of the training ``steps`` (one problem,
+    or a multi-trial problem for several, seeded by the case); an exception, an answer the
+    plugin contract refuses, or several trials for an algorithm that takes one, is a failed
+    estimate."""
     algo = make_algorithm(spec.algorithm, **spec.config)
-    problem = IOCProblem(human_observation(step), FEATURES, step.params, step.task, seed=spec.seed)
+    trials = [IOCProblem(human_observation(s), FEATURES, s.params, s.task, seed=spec.seed) for s in steps]
+    problem = trials[0] if len(trials) == 1 else MultiTrialProblem(trials)
     nan = (float("nan"),) * len(FEATURES)
+    if len(trials) > 1 and not algo.multi_trial:
+        return Estimate(
+            "failed", f"{spec.algorithm} does not handle several trials (its multi_trial is False)", nan, 0.0, 0
+        )
     t0 = time.perf_counter()
     try:
         result = algo.fit(problem)
@@ -435,6 +463,7 @@ class HumanResult:
             "weights": list(self.estimate.weights),
             "fit_rmse_deg": self.fit_rmse_deg,
             "fit": fit.to_dict("fit", angles) if fit else None,
+            "also_fit": {c: self.speeds[c].to_dict("fit", angles) for c in self.spec.also_train if c in self.speeds},
             "predictions": {
                 c: self.speeds[c].to_dict("prediction", angles) for c in self.spec.predict if c in self.speeds
             },
@@ -461,7 +490,7 @@ def run_human_case(spec: HumanCaseSpec, data: WbdsData | None = None) -> HumanRe
     """
     steps = load_steps(spec, data)
     make_algorithm(spec.algorithm, **spec.config)  # the name and the config, before any work
-    estimate = fit_human(spec, steps[spec.train])
+    estimate = fit_human(spec, [steps[code] for code in spec.training])
     t0 = time.perf_counter()
     speeds = {}
     if not estimate.failed:
@@ -480,6 +509,7 @@ def _method_rmse(score: Mapping[str, Any]) -> float | None:
 def _speed_scores(record: Mapping[str, Any]) -> list[tuple[str, str, Mapping[str, Any]]]:
     """(role, speed code, score) of a record's fit and predictions (none for a failed case)."""
     out = [("fit", record["train"], record["fit"])] if record.get("fit") else []
+    out += [("fit", code, s) for code, s in (record.get("also_fit") or {}).items()]
     return out + [("prediction", code, s) for code, s in (record.get("predictions") or {}).items()]
 
 

@@ -45,6 +45,8 @@ CASE = ("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T04")
         (("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T04,T99"), "unknown speed code"),
         (("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T04,T05"), "also a predicted speed"),
         (("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T07"), "no WBDS01walkT07ang.txt"),
+        (("human", "--subject", "WBDS01", "--train", "T05,T04", "--predict", "T04"), "T04 is also a predicted speed"),
+        (("human", "--subject", "WBDS01", "--train", "T05,T05"), "training speed is repeated"),
         ((*CASE, "--algorithm", "nope"), "unknown algorithm"),
         ((*CASE, "--config", '{"no_such_field": 1}'), "no_such_field"),
         ((*CASE, "--starts", "0"), "must be >= 1"),

@@ -19,6 +19,7 @@ from ioc_bench.human.track import (
     SPEED_CODES,
     HumanCaseSpec,
     run_floors,
+    run_human_case,
     score_weights,
     skill_score,
     summarize,
@@ -66,6 +67,28 @@ def test_case_specs_refuse_bad_input() -> None:
         HumanCaseSpec("WBDS01", "T05", "T04", "bilevel")
     with pytest.raises(ValueError):
         HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel", starts=0)
+    with pytest.raises(ValueError, match="training speed is repeated"):
+        HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel", also_train=("T05",))
+    with pytest.raises(ValueError, match="T06 is also a predicted speed"):
+        HumanCaseSpec("WBDS01", "T05", ("T04", "T06"), "bilevel", also_train=("T06",))
+
+
+def test_several_training_speeds() -> None:
+    spec = HumanCaseSpec("WBDS01", "T04", ("T03", "T06"), "bilevel", also_train=("T05",))
+    assert spec.training == ("T04", "T05") and spec.speeds == ("T04", "T05", "T03", "T06")
+    assert spec.key == "bilevel/WBDS01_T04+T05__predict-T03-T06__seed0"
+    assert spec.identity()["also_train"] == ["T05"] and "also_train" not in HUMAN_SMOKE[0].identity()
+
+
+def test_an_algorithm_for_one_trial_given_several_is_a_recorded_failure() -> None:
+    """single-level takes one trial: with two training speeds the case fails at once, with
+    the reason, and nothing is solved."""
+    spec = HumanCaseSpec("WBDS01", "T05", ("T04",), "single-level", also_train=("T06",))
+    result = run_human_case(spec)
+    assert result.failed and "multi_trial is False" in result.estimate.reason
+    assert result.estimate.n_solves == 0 and result.speeds == {}
+    record = result.to_dict()
+    assert record["fit"] is None and record["predictions"] == {} and record["also_train"] == ["T06"]
 
 
 def test_the_case_lists() -> None:
