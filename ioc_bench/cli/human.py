@@ -211,7 +211,8 @@ def _without_angles(record: dict) -> dict:
 def _print(record: dict) -> None:
     w = ", ".join(f"{x:.3f}" if x is not None else "nan" for x in record["weights"])
     reason = f" ({record['reason']})" if record["reason"] else ""
-    print(f"{record['algorithm']} on {record['subject']} {record['train']}: {record['status']}{reason}")
+    train = "+".join([record["train"], *record.get("also_train", [])])
+    print(f"{record['algorithm']} on {record['subject']} {train}: {record['status']}{reason}")
     print(
         f"  weights ({', '.join(record['features'])}) = [{w}]  "
         f"in {record['wall_time']:.1f} s, {record['n_solves']} solves"
