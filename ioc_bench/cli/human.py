@@ -75,13 +75,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _report_suite(name: str, results: list[dict], out: Path | None, as_json: bool) -> None:
-    """The run's summary per algorithm: printed, and written to ``--out/summary.json``."""
-    from ioc_bench.fileio import atomic_write_json
-    from ioc_bench.human.track import summarize
+    """The run's summary per algorithm: printed, and written to ``--out/summary.json`` and
+    ``summary.md`` (a Markdown table for a leaderboard)."""
+    from ioc_bench.fileio import atomic_write_json, atomic_write_text
+    from ioc_bench.human.track import summarize, summary_markdown
 
     summary = {"suite": name, "algorithms": summarize(results)}
     if out is not None:
         atomic_write_json(out / "summary.json", summary)
+        atomic_write_text(out / "summary.md", f"## {name}\n\n" + summary_markdown(summary["algorithms"]))
     if as_json:
         print_json(summary | {"cases": results})
         return

@@ -578,3 +578,30 @@ def _mean(values: Sequence[float | None]) -> float:
 def _median(values: Sequence[float | None]) -> float:
     kept = _finite(values)
     return float(np.median(kept)) if kept else float("nan")
+
+
+def summary_markdown(summary: Mapping[str, Mapping[str, Any]]) -> str:
+    """The per-algorithm summary (:func:`summarize`) as a Markdown table, for a leaderboard."""
+    lines = [
+        "| algorithm | cases | failed | fit RMSE (deg) | prediction RMSE (deg) | beat nominal | "
+        "median skill (case floor) | median skill (run floor) | time (s) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, row in summary.items():
+        cells = [
+            name,
+            str(row["cases"]),
+            str(row["failed"]),
+            _cell(row["fit_rmse_deg"], 2),
+            _cell(row["prediction_rmse_deg"], 2),
+            f"{row['beat_nominal']} of {row['predictions']}",
+            _cell(row["median_skill"], 2),
+            _cell(row["median_skill_run_floor"], 2),
+            _cell(row["time_s"], 0),
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _cell(value: float | None, digits: int) -> str:
+    return "-" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"

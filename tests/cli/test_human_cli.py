@@ -152,3 +152,4 @@ def test_a_suite_resumes_finished_cases_and_writes_its_summary(capsys, tmp_path,
     assert summary["algorithms"]["inverse-kkt"]["beat_nominal"] == 1  # 8 deg against nominal 9
     assert summary["algorithms"]["bilevel"]["beat_nominal"] == 0  # 10 deg against nominal 9
     assert summary == {k: report[k] for k in ("suite", "algorithms")}
+    assert "| inverse-kkt | 1 | 0 |" in (out / "summary.md").read_text()

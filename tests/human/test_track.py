@@ -23,6 +23,7 @@ from ioc_bench.human.track import (
     score_weights,
     skill_score,
     summarize,
+    summary_markdown,
 )
 from ioc_bench.ioc.registry import algorithms
 from ioc_bench.optimize import optimize_gait
@@ -166,3 +167,6 @@ def test_the_run_summary_uses_the_lowest_rmse_of_any_case_as_floor() -> None:
     assert summary["a"]["fit_rmse_deg"] == 7.0 and summary["a"]["time_s"] == 3.0
     failed = {"algorithm": "a", "subject": "WBDS01", "train": "T05", "status": "failed", "fit": None, "predictions": {}}
     assert summarize([*records, failed])["a"]["failed"] == 1
+    table = summary_markdown(summary).splitlines()
+    assert len(table) == 4 and table[2].startswith("| a | 1 | 0 | 7.00 | 6.00 | 1 of 1 |")
+    assert table[3].startswith("| b | 1 | 0 | 8.00 | 12.00 | 0 of 1 | - | -0.50 |")
