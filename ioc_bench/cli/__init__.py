@@ -14,7 +14,18 @@ from collections.abc import Sequence
 from ioc_bench.cli.common import UsageError, fail
 
 #: Subcommand modules, in the order ``--help`` lists them.
-COMMANDS: tuple[str, ...] = ("gait", "table1", "speed", "replay", "algorithms", "ioc", "run", "leaderboard", "figures")
+COMMANDS: tuple[str, ...] = (
+    "gait",
+    "table1",
+    "speed",
+    "replay",
+    "algorithms",
+    "ioc",
+    "run",
+    "leaderboard",
+    "figures",
+    "human",
+)
 
 
 class _Parser(argparse.ArgumentParser):

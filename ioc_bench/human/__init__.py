@@ -3,7 +3,9 @@
 ``wbds`` reads and checks the data set's ASCII layout, ``anthropometry`` builds the
 subject's walker, ``step`` maps a trial to one symmetric step in the walker's units, and
 ``observe`` turns it into an :class:`~ioc_bench.trajectory.Observation` that holds only what
-was measured. ``docs/human.md`` says how each choice was made and what it costs.
+was measured, and ``track`` (imported on its own: it brings in the solvers) scores an IOC
+estimate by the steps it predicts at the person's other speeds. ``docs/human.md`` says how
+each choice was made and what it costs.
 """
 
 from ioc_bench.human.anthropometry import BodyLengths, SubjectBody, subject_body, subject_walker

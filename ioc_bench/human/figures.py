@@ -24,7 +24,7 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
     if not panels:
         raise ValueError("no panels to plot")
     fig, axes = plt.subplots(len(panels), 4, figsize=(13, 2.4 * len(panels)), sharex=True, squeeze=False)
-    for row, panel in zip(axes, panels):
+    for i, (row, panel) in enumerate(zip(axes, panels)):
         human = np.degrees(np.asarray(panel["human"]))
         s = np.linspace(0, 100, human.shape[0])
         for j, ax in enumerate(row):
@@ -32,7 +32,7 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
             for style, (label, angles) in zip(_STYLES, panel["walkers"].items()):
                 ax.plot(s, np.degrees(np.asarray(angles))[:, j], style, lw=1.5, label=label)
             ax.axhline(0, color="0.8", lw=0.5)
-            if row is axes[0]:
+            if i == 0:  # (``row is axes[0]`` is never true: indexing makes a new array)
                 ax.set_title(LEG_SEGMENTS[j].replace("_", " "))
             if j == 0:
                 ax.set_ylabel(f"{panel['title']}\nangle (deg)", fontsize=8)
@@ -41,3 +41,39 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
         ax.set_xlabel("% of the step")
     fig.suptitle("Leg segment angles from vertical (walker convention: + = proximal end ahead)", fontsize=10)
     return save_figure(fig, path)
+
+
+def plot_human_case(record: Mapping, humans: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
+    """The figure of one human-track case: per speed (training first), the person's leg
+    segment angles, the estimated weights' step and the nominal weights' step.
+
+    ``record`` is a case's JSON record (:meth:`ioc_bench.human.track.HumanResult.to_dict`
+    with angles), ``humans`` the person's (T, 4) angles by speed code.
+    """
+    rows = [("fit", record["train"], record.get("fit"))]
+    rows += [("fit", code, score) for code, score in (record.get("also_fit") or {}).items()]
+    rows += [("predicted", code, record.get("predictions", {}).get(code)) for code in record["predict"]]
+    panels = []
+    for role, code, score in rows:
+        if code not in humans:
+            continue
+        score = score or {}
+        angles = score.get("angles") or {}
+        walkers = {}
+        for label, key in (
+            ("estimate", f"{'fit' if role == 'fit' else 'prediction'}_rmse_deg"),
+            ("nominal", "nominal_rmse_deg"),
+        ):
+            if angles.get(label) is not None:
+                walkers[f"{label} ({_deg(score[key])})"] = np.asarray(angles[label])
+        title = f"{record['subject']} {code} {role}\nskill {_num(score.get('skill'))}"
+        panels.append({"title": title, "human": humans[code], "walkers": walkers})
+    return plot_human_fits(panels, path)
+
+
+def _deg(value) -> str:
+    return "failed" if value is None or not np.isfinite(value) else f"{value:.1f} deg"
+
+
+def _num(value) -> str:
+    return "n/a" if value is None or not np.isfinite(value) else f"{value:.2f}"

@@ -19,3 +19,20 @@ def test_plot_human_fits_needs_panels(tmp_path) -> None:
     with pytest.raises(ValueError, match="no panels"):
         plot_human_fits([], tmp_path / "fits.png")
     assert not (tmp_path / "fits.png").exists()
+
+
+def test_a_case_figure_shows_every_speed_even_without_a_walker_step(tmp_path) -> None:
+    """A failed case (no fit, no predictions) still draws the person's steps."""
+    from ioc_bench.human.figures import plot_human_case
+
+    humans = {code: load_step("WBDS01", code).angles for code in ("T05", "T04")}
+    record = {"subject": "WBDS01", "train": "T05", "predict": ["T04"], "fit": None, "predictions": {}}
+    assert plot_human_case(record, humans, tmp_path / "case.png").read_bytes()[:4] == b"\x89PNG"
+    scored = {
+        "fit_rmse_deg": None,
+        "nominal_rmse_deg": 9.0,
+        "skill": None,
+        "angles": {"estimate": None, "nominal": humans["T05"]},
+    }
+    record["fit"] = scored
+    assert plot_human_case(record, humans, tmp_path / "scored.png").is_file()
