@@ -358,11 +358,11 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
 
 def demo_spread(results: Sequence[CaseResult]) -> float | None:
     """Largest relative difference of a demonstration feature between seeds of the same
-    weight set and speed (None if no demonstration was solved for two seeds)."""
-    by: dict[tuple[str, float], list[dict[str, float]]] = defaultdict(list)
+    weight set, model and speed (None if no demonstration was solved for two seeds)."""
+    by: dict[tuple[str, str, float], list[dict[str, float]]] = defaultdict(list)
     for r in results:
-        if r.demo_features:
-            by[(r.weight_set, r.demo_speed)].append(r.demo_features)
+        if r.demo_features:  # one model's weight set names another model's set of features
+            by[(r.model, r.weight_set, r.demo_speed)].append(r.demo_features)
     spreads = [
         (max(vals) - min(vals)) / max(abs(v) for v in vals)
         for demos in by.values()

@@ -156,3 +156,11 @@ def test_the_header_says_when_seeds_repeat_the_demonstration(make_result):
     assert demo_spread(same) == 0.0 and "differ by at most 0 (relative)" in markdown(same)
     other = [dataclasses.replace(r, demo_features={"hip": 0.1 * (1 + r.seed), "knee": 0.2}) for r in same]
     assert demo_spread(other) == pytest.approx(2 / 3) and "differ by at most" not in markdown(other)
+
+
+def test_demonstrations_of_two_models_with_one_weight_set_name_are_not_compared(make_result):
+    """The walker's and the compass walker's "nominal" weigh different features: each model's
+    demonstrations are compared among themselves only (a mix once crashed the leaderboard)."""
+    walker = [dataclasses.replace(make_result(seed=s), demo_features={"hip": 0.1, "knee": 0.2}) for s in (0, 1)]
+    compass = [dataclasses.replace(r, model="compass", demo_features={"hip": 0.3, "dtau": 0.1}) for r in walker]
+    assert demo_spread(walker + compass) == 0.0
