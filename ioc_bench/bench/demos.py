@@ -22,10 +22,11 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.demo import Demonstration, DemonstrationFileError
-from ioc_bench.fileio import check_output_dir
+from ioc_bench.fileio import atomic_write, check_output_dir, read_bytes
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.task import Task
+from ioc_bench.trajopt.solution import SolverReport, StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 
 #: Bump whenever the transcription or solver settings change the optima.
@@ -163,10 +164,7 @@ class ReferenceCache:
     def _path(self, key: str) -> Path:
         return self.root / f"{key}-r{SOLVER_REVISION}.npz"
 
-    def get(self, key: str):
-        from ioc_bench.fileio import read_bytes
-        from ioc_bench.trajopt.solution import SolverReport, StartPoint
-
+    def get(self, key: str) -> tuple[StartPoint, SolverReport, int, float] | None:
         path = self._path(key)
         if not path.is_file():
             return None
@@ -179,9 +177,7 @@ class ReferenceCache:
         except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile):
             return None
 
-    def put(self, key: str, point, report, solves: int, seconds: float) -> None:
-        from ioc_bench.fileio import atomic_write
-
+    def put(self, key: str, point: StartPoint, report: SolverReport, solves: int, seconds: float) -> None:
         def write(f) -> None:
             np.savez(
                 f,
