@@ -44,13 +44,49 @@ def shown(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+#: Shortest a word of a one-line error is cut to (a path keeps this many characters of its ends).
+MIN_WORD = 40
+
+
+def short_word(word: str, limit: int) -> str:
+    """``word`` if it has at most ``limit`` characters, else its first and last characters
+    around ``...`` (a deep path keeps where it starts and the names it ends with)."""
+    if len(word) <= limit:
+        return word
+    head = (limit - 3) * 2 // 5
+    return f"{word[:head]}...{word[len(word) - (limit - 3 - head) :]}"
+
+
 def one_line(text: str, limit: int = MAX_MESSAGE) -> str:
-    """``text`` on one line, cut in the middle to at most ``limit`` characters."""
-    text = " ".join(str(text).split())
+    """``text`` on one line of at most ``limit`` characters.
+
+    A line that is too long has its longest words (deep paths, as a rule) shortened to
+    their ends first, none below :data:`MIN_WORD` characters, so the sentence around them
+    survives; what is still too long is cut in the middle.
+    """
+    words = str(text).split()
+    text = " ".join(words)
+    if len(text) <= limit:
+        return text
+    cap = _word_cap(words, limit)
+    text = " ".join(short_word(word, cap) for word in words)
     if len(text) <= limit:
         return text
     head = (limit - 5) * 2 // 3
     return f"{text[:head]} ... {text[len(text) - (limit - 5 - head) :]}"
+
+
+def _word_cap(words: list[str], limit: int) -> int:
+    """The longest word length (at least :data:`MIN_WORD`) that makes ``words`` fit in ``limit``."""
+
+    def length(cap: int) -> int:
+        return sum(min(len(w), cap) for w in words) + len(words) - 1
+
+    low, high = MIN_WORD, max(len(w) for w in words)
+    while low < high:
+        mid = (low + high + 1) // 2
+        low, high = (mid, high) if length(mid) <= limit else (low, mid - 1)
+    return low
 
 
 def load_json(text: str | bytes, max_depth: int = MAX_JSON_DEPTH) -> Any:

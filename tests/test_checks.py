@@ -8,7 +8,16 @@ from typing import Any
 import numpy as np
 import pytest
 
-from ioc_bench.checks import TypeMismatch, check_count, check_seed, coerce
+from ioc_bench.checks import (
+    MAX_MESSAGE,
+    MIN_WORD,
+    TypeMismatch,
+    check_count,
+    check_seed,
+    coerce,
+    one_line,
+    short_word,
+)
 
 
 @pytest.mark.parametrize("seed", [-1, 1.0, "0", True, None])
@@ -58,3 +67,21 @@ def test_mismatches_say_what_was_expected(value, hint, message):
 
 def test_nonfinite_mode_reads_null_as_nan():
     assert math.isnan(coerce(None, float, nonfinite=True)) and coerce(math.inf, float, nonfinite=True) == math.inf
+
+
+def test_one_line_shortens_the_longest_words_so_the_sentence_survives():
+    deep = "/scratch/" + "/".join(["folder" * 8] * 6)
+    message = f"cannot write {deep}/r.json: {deep} leads out of {deep}/x (move it away, or use another --out)"
+    line = one_line(message)
+    assert len(line) <= MAX_MESSAGE and "leads out of" in line and "move it away" in line and " ... " not in line
+    assert line.startswith("cannot write /scratch/folder") and "/r.json:" in line
+    short = f"cannot write {deep}/r.json"
+    assert one_line(short) == short  # a line that fits keeps its paths whole
+
+
+def test_one_line_cuts_in_the_middle_what_is_still_too_long():
+    line = one_line(" ".join(["word"] * 200))
+    assert len(line) <= MAX_MESSAGE and " ... " in line and "\n" not in line
+    words = one_line(" ".join(["x" * 300] * 20)).split()
+    assert all(len(w) <= MIN_WORD for w in words if w != "...")
+    assert short_word("abcdefghij", 8) == "ab...hij" and short_word("abc", 8) == "abc"

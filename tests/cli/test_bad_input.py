@@ -47,6 +47,24 @@ from ioc_bench.viz.figures import make_figures
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "bad_input.md"
 ISSUE, ADDED, ROUND3 = "issue 12", "added", "issue 24"
+#: Byte length of the ``{deep}`` path: over the 4095 a path may have, and the same on every machine
+#: whatever the length of the scratch folder's name (the refusal message quotes it).
+DEEP_PATH_BYTES = 4300
+
+
+def _deep_path(tmp: Path, total: int = DEEP_PATH_BYTES) -> str:
+    """A path of exactly ``total`` bytes under ``tmp``, in components of at most 200 bytes."""
+    remaining = total - len(os.fsencode(str(tmp)))
+    assert remaining > 402, "the scratch folder's name is too long for the deep path"
+    sizes = [200] * (-(-remaining // 201))
+    sizes[-1] = remaining - 201 * (len(sizes) - 1) - 1
+    if sizes[-1] == 0:
+        sizes[-2:] = [199, 1]
+    path = str(tmp) + "".join("/" + "d" * n for n in reversed(sizes))  # the short one first: the tail is fixed
+    assert len(os.fsencode(path)) == total
+    return path
+
+
 #: Text of very deep JSON and of a 100 KB config, resolved from ``{nested-json}`` and ``{huge-config}``.
 NESTED_JSON = "[" * 100_000 + "]" * 100_000
 HUGE_CONFIG = '{"n_random": [' + "1," * 50_000 + "1]}"
@@ -200,7 +218,7 @@ CASES: list[Case] = [
     C("ioc-config-choice", ISSUE, 'ioc --config {"forward_start":"nope"}', "forward_start must be 'warm' or 'cold'"),
     C("ioc-seed-negative", ISSUE, "ioc --seed -1", "must be >= 0"),
     C("gait-seed-negative", ISSUE, "gait --seed -1", "must be >= 0"),
-    C("ioc-out-under-file", ISSUE, "ioc --out {file}/r.json", "cannot create {file}/r.json: {file} is not a dir"),
+    C("ioc-out-under-file", ISSUE, "ioc --out {file}/r.json", "/file/r.json: /"),
     C("gait-out-under-file", ISSUE, "gait --out {file}/demo.npz", "is not a directory"),
     C("replay-out-under-file", ISSUE, "replay {demo} --out {file}/sub", "is not a directory"),
     C("run-out-under-file", ISSUE, "run --out {file}/results", "is not a directory"),
@@ -333,7 +351,7 @@ CASES: list[Case] = [
     C("leaderboard-out-long-path", ROUND3, "leaderboard {res:valid} --out {deep}", "over the 4095 a path may have"),
     C("gait-out-fifo", ROUND3, "gait --out {fifo}.npz", "is a FIFO, not a regular file"),
     C("ioc-out-device", ROUND3, "ioc --out /dev/null", "under /dev"),
-    C("ioc-cache-a-file", ROUND3, "ioc", "cannot create {file}/demos: {file} is not a directory", cache="{file}"),
+    C("ioc-cache-a-file", ROUND3, "ioc", "/file/demos: /", cache="{file}"),
     C("run-cache-a-file", ROUND3, "run --out {tmp}/results", "demonstration cache", cache="{file}"),
     C("run-cache-empty", ROUND3, "run --out {tmp}/results", "IOC_BENCH_CACHE is set but empty", cache="{empty}"),
     C("ioc-cache-proc", ROUND3, "ioc --out {tmp}/r.json", "under /proc", cache="/proc/cache"),
@@ -354,6 +372,22 @@ CASES: list[Case] = [
 @pytest.fixture(scope="module")
 def good_demo(nominal_demo, tmp_path_factory) -> Path:
     return nominal_demo.save(tmp_path_factory.mktemp("good") / "good.npz")
+
+
+#: Length of every scratch folder's path here: messages shorten deep paths and cut long lines at
+#: fixed lengths, so the table reads the same whatever the length of pytest's temporary folder.
+SCRATCH_PATH_CHARS = 240
+#: What pads a scratch folder's path to that length (no letter the table's placeholders use).
+PAD = "w"
+
+
+def _fixed_length(tmp: Path) -> Path:
+    """A new folder under ``tmp`` whose path has :data:`SCRATCH_PATH_CHARS` characters."""
+    room = SCRATCH_PATH_CHARS - len(str(tmp)) - 1
+    assert room >= 100, f"pytest's temporary folder {tmp} is too deep for this test's fixed-length scratch"
+    folder = tmp / (PAD * room)
+    folder.mkdir()
+    return folder
 
 
 class Workspace:
@@ -384,7 +418,7 @@ class Workspace:
             (self.tmp / "board" / "README.md").mkdir(parents=True, exist_ok=True)
             token = token.replace("{readme-dir}", str(self.tmp / "board"))
         if "{deep}" in token:
-            token = token.replace("{deep}", str(self.tmp / "/".join(["d" * 200] * 21)))
+            token = token.replace("{deep}", _deep_path(self.tmp))
         while "{demo" in token or "{res:" in token:
             start = token.index("{")
             end = token.index("}", start)
@@ -455,7 +489,7 @@ MAX_LINE = 400 + len("ioc-bench leaderboard: error: ")
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_bad_input_exits_2_with_one_line(case: Case, tmp_path, good_demo, make_result, capsys, no_work, monkeypatch):
-    space = Workspace(tmp_path, good_demo, make_result)
+    space = Workspace(_fixed_length(tmp_path), good_demo, make_result)
     argv = [space.resolve(a) for a in case.argv]
     hold = space.resolve(case.hold) if case.hold else None
     if case.cache:
@@ -478,7 +512,7 @@ def test_bad_input_exits_2_with_one_line(case: Case, tmp_path, good_demo, make_r
     assert len(lines[0]) <= MAX_LINE, f"a {len(lines[0])}-character line"
     assert space.snapshot() == before, "a refused command changed its folder"
     assert not any(cwd.iterdir()), f"written in the current folder: {list(cwd.iterdir())}"
-    shown_line = _shown([lines[0]], tmp_path).replace("n" * 256, "{long}").replace("d" * 200, "{d200}")
+    shown_line = _shown([lines[0]], space.tmp).replace("n" * 256, "{long}").replace("d" * 200, "{d200}")
     env = [f"IOC_BENCH_CACHE={case.cache or chr(39) * 2}"] if case.cache else []
     ROWS[case.id] = (case.source, _shown([*env, "ioc-bench", *case.argv]), exc.value.code, shown_line)
 
@@ -625,11 +659,12 @@ def test_python_api_raises_one_documented_error(
     name, source, call, error, expect, tmp_path, good_demo, no_work, make_result
 ):
     _SYNTHETIC[:] = [make_result]
+    scratch = _fixed_length(tmp_path)
     with pytest.raises(error) as exc:
-        call(tmp_path, good_demo)
+        call(scratch, good_demo)
     message = str(exc.value)
     assert expect in message and "\n" not in message
-    API_ROWS[name] = (source, type(exc.value).__name__, _shown([message], tmp_path))
+    API_ROWS[name] = (source, type(exc.value).__name__, _shown([message], scratch))
 
 
 # -- the table -----------------------------------------------------------------------------------
@@ -638,6 +673,9 @@ def test_python_api_raises_one_documented_error(
 def _shown(parts: list[str], tmp: Path | None = None) -> str:
     text = " ".join(parts)
     if tmp is not None:
+        text = re.sub(r"'/[^'\s]*?\.\.\.", "'<tmp>...", text)  # a quoted path cut to its ends is the scratch's
+        text = re.sub(r"/\S*?\.\.\.", "<tmp>...", text)  # a deep path shortened to its ends starts in the scratch
+        text = re.sub(rf"<tmp>\.\.\.{PAD}+", "<tmp>", text)  # and its end holds the scratch's padding
         text = text.replace(str(tmp), "<tmp>")
         text = re.sub(r"/\S*?pytest-\d+/[^/'\s.]*", "<tmp>", text)  # a scratch path cut short in a message
     return text.replace("|", "\\|")
@@ -752,7 +790,7 @@ def render_table() -> str:
         "fails when this file is not current). `<tmp>` is the test's scratch folder; `{file}` a plain file,",
         "`{demo}` a good demonstration, `{demo:<kind>}` one spoilt that way and `{res:<kind>}` a results folder",
         "holding a bad result file of that kind (see the test); `{empty}` is the empty string, `{long}` a name of",
-        "256 bytes, `{loop}` a link to itself, `{dangling}` a link to nothing, `{deep}` a path of 4,2xx bytes,",
+        "256 bytes, `{loop}` a link to itself, `{dangling}` a link to nothing, `{deep}` a path of 4,300 bytes,",
         "`{nested-json}` 100,000 nested brackets, `{huge-config}` a 100 KB config. Every command line ran in-process",
         "with solving disabled, so none of them got to any expensive work; each one also left its scratch folder",
         "as it was and wrote nothing in the current folder (no file outside --out, no temporary left).",
