@@ -4,27 +4,56 @@ The forward problem (optimal gaits of a 5-segment planar walker) after Rebula, S
 Finley & Righetti, "A Robustness Analysis of Inverse Optimal Control of Bipedal Walking".
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
 from ioc_bench._version import __version__
-from ioc_bench.bench.case import CaseResult, run_case
-from ioc_bench.bench.conditions import CONDITIONS, Condition
-from ioc_bench.demo import Demonstration, DemonstrationFileError
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES, DISTRACTORS, FEATURES
-from ioc_bench.ioc import (
-    API_VERSION,
-    IOCAlgorithm,
-    IOCProblem,
-    IOCResult,
-    IterationRecord,
-    OracleSolution,
-    WeightRegion,
-    algorithms,
-    make_algorithm,
-    register_algorithm,
-)
-from ioc_bench.model.params import SegmentParams, WalkerParams
-from ioc_bench.optimize import optimize_gait
-from ioc_bench.task import Task
-from ioc_bench.weights import WEIGHT_SETS, parse_weights
+
+#: Where each public name lives; imported on first use, so ``import ioc_bench`` (and the
+#: command line's start, when Ctrl-C must already be honoured) does not load CasADi.
+_PUBLIC = {
+    "CaseResult": "ioc_bench.bench.case",
+    "run_case": "ioc_bench.bench.case",
+    "CONDITIONS": "ioc_bench.bench.conditions",
+    "Condition": "ioc_bench.bench.conditions",
+    "Demonstration": "ioc_bench.demo",
+    "DemonstrationFileError": "ioc_bench.demo",
+    "ALL_FEATURES": "ioc_bench.features",
+    "COST_FEATURES": "ioc_bench.features",
+    "DISTRACTORS": "ioc_bench.features",
+    "FEATURES": "ioc_bench.features",
+    "API_VERSION": "ioc_bench.ioc",
+    "IOCAlgorithm": "ioc_bench.ioc",
+    "IOCProblem": "ioc_bench.ioc",
+    "IOCResult": "ioc_bench.ioc",
+    "IterationRecord": "ioc_bench.ioc",
+    "OracleSolution": "ioc_bench.ioc",
+    "WeightRegion": "ioc_bench.ioc",
+    "algorithms": "ioc_bench.ioc",
+    "make_algorithm": "ioc_bench.ioc",
+    "register_algorithm": "ioc_bench.ioc",
+    "SegmentParams": "ioc_bench.model.params",
+    "WalkerParams": "ioc_bench.model.params",
+    "optimize_gait": "ioc_bench.optimize",
+    "Task": "ioc_bench.task",
+    "WEIGHT_SETS": "ioc_bench.weights",
+    "parse_weights": "ioc_bench.weights",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _PUBLIC:
+        raise AttributeError(f"module 'ioc_bench' has no attribute {name!r}")
+    value = getattr(importlib.import_module(_PUBLIC[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_PUBLIC])
+
 
 __all__ = [
     "ALL_FEATURES",

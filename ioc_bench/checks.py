@@ -90,21 +90,37 @@ def _word_cap(words: list[str], limit: int) -> int:
 
 
 def load_json(text: str | bytes, max_depth: int = MAX_JSON_DEPTH) -> Any:
-    """Decode JSON from outside; ``ValueError`` (one line) for bad JSON or nesting beyond ``max_depth``.
+    """Decode JSON from outside; ``ValueError`` (one line) for bad JSON, an object with a key
+    twice, or nesting beyond ``max_depth``.
 
     Python's decoder recurses once per level and raises ``RecursionError`` on deep
     nesting; here that, and any nesting deeper than ``max_depth``, is a ``ValueError``.
     """
     try:
-        value = json.loads(text)
+        value = json.loads(text, object_pairs_hook=_unique_keys)
     except RecursionError:
         raise ValueError(f"JSON nested deeper than {max_depth} levels") from None
+    except DuplicateKey:
+        raise
     except json.JSONDecodeError as exc:
         raise ValueError(f"not JSON ({one_line(str(exc), 120)})") from None
     except ValueError:  # Python refuses to convert an integer literal of over 4300 digits
         raise ValueError("JSON holding an integer of over 4300 digits") from None
     if json_depth(value) > max_depth:
         raise ValueError(f"JSON nested deeper than {max_depth} levels")
+    return value
+
+
+class DuplicateKey(ValueError):
+    """A JSON object names one key twice (which value was meant is unknowable)."""
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    value = dict(pairs)
+    if len(value) != len(pairs):
+        seen: set[str] = set()
+        twice = next(k for k, _ in pairs if k in seen or seen.add(k))
+        raise DuplicateKey(f"JSON object with the key {shown(twice)} twice")
     return value
 
 

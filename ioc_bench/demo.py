@@ -63,6 +63,7 @@ class Demonstration:
         gait: step length, duration, cadence, clearance, peak torques, active bounds.
         local_minimum: the check that no proximal descent under its own weights finds a
             cheaper step (None if not checked, e.g. for an infeasible solve).
+        seed: the multi-start's seed (None for a single solve from a given start).
     """
 
     trajectory: Trajectory
@@ -78,6 +79,7 @@ class Demonstration:
     model: str = "walker"
     gait: GaitFigures | None = None
     local_minimum: LocalMinimumCheck | None = None
+    seed: int | None = None
 
     @property
     def times(self) -> np.ndarray:
@@ -109,6 +111,7 @@ class Demonstration:
             "model": self.model,
             "gait": None if self.gait is None else self.gait.to_dict(),
             "local_minimum": None if self.local_minimum is None else self.local_minimum.to_dict(),
+            "seed": self.seed,
         }
         arrays = {_TRAJ_PREFIX + k: v for k, v in self.trajectory.to_arrays().items()}
         arrays |= {"lam_x": self.lam_x, "lam_g": self.lam_g, "meta": np.array(json.dumps(meta))}
@@ -166,7 +169,9 @@ class Demonstration:
         n_intervals = meta["n_intervals"]
         if isinstance(n_intervals, bool) or not isinstance(n_intervals, int) or not 0 <= n_intervals <= 10**6:
             raise ValueError(f"n_intervals must be an integer from 0 to 10**6, got {shown(n_intervals)}")
-        gait, check = meta.get("gait"), meta.get("local_minimum")
+        gait, check, seed = meta.get("gait"), meta.get("local_minimum"), meta.get("seed")
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+            raise ValueError(f"seed must be a non-negative integer or null, got {shown(seed)}")
         return cls(
             trajectory=traj,
             weights=weights,
@@ -181,6 +186,7 @@ class Demonstration:
             model=model.name,
             gait=None if gait is None else GaitFigures.from_dict(_object(gait, "gait")),
             local_minimum=None if check is None else LocalMinimumCheck.from_dict(_object(check, "local_minimum")),
+            seed=seed,
         )
 
 

@@ -105,7 +105,7 @@ def optimize_gait(
     request = SolveRequest(StartPoint(np.zeros(forward.n_x)), params, task, w, rules=rules)
     if init is not None:
         start = StartPoint(forward.vector(init.trajectory), *_duals(init, forward))
-        return _demonstration(forward, forward.solve(replace(request, start=start)), request, None, verify)
+        return _demonstration(forward, forward.solve(replace(request, start=start)), request, None, verify, None)
     origins, points = _start_points(model, params, task, starts, seed, guesses, forward)
     done = [0]
 
@@ -116,7 +116,7 @@ def optimize_gait(
 
     results = solve_starts(forward, [replace(request, start=p) for p in points], workers, progress)
     best, summary = pick_best(results, origins)
-    return _demonstration(forward, results[best], request, summary, verify)
+    return _demonstration(forward, results[best], request, summary, verify, seed)
 
 
 def _instance(value: object, cls: type, what: str, example: str):
@@ -148,7 +148,7 @@ def _fmt(w: np.ndarray) -> str:
 
 
 def _demonstration(
-    forward: ForwardProblem, result: SolveResult, request: SolveRequest, summary, verify: bool
+    forward: ForwardProblem, result: SolveResult, request: SolveRequest, summary, verify: bool, seed: int | None
 ) -> Demonstration:
     check = None
     if verify and result.report.success:
@@ -169,4 +169,5 @@ def _demonstration(
         model=forward.model.name,
         gait=solved_gait_figures(forward, result.x, result.trajectory, params, task, request.rules),
         local_minimum=check,
+        seed=seed,
     )

@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import settings
 
 from ioc_bench import Demonstration, Task, WalkerParams, optimize_gait
+
+sys.path.insert(0, str(Path(__file__).parent))  # test modules import the made-up results of ``synthetic``
+from synthetic import synthetic_result
 
 # Property-based tests draw their examples from a fixed seed: the same examples every run.
 settings.register_profile("ioc-bench", derandomize=True, deadline=None, database=None, print_blob=True)
@@ -65,47 +71,6 @@ def ideal_nominal_cached(_isolated_cache) -> Demonstration:
     from ioc_bench.weights import parse_weights
 
     return demonstration(parse_weights("nominal"))
-
-
-def synthetic_result(
-    algorithm: str = "log-barrier",
-    weight_set: str = "nominal",
-    condition: str = "ideal",
-    seed: int = 0,
-    failed: bool = False,
-    config: dict | None = None,
-    weight_error: float = 0.01,
-):
-    """A plausible case result without running anything (true weights as the estimate)."""
-    import math
-
-    from ioc_bench.bench.case import CaseResult
-    from ioc_bench.bench.conditions import get_condition
-    from ioc_bench.weights import parse_weights
-
-    features = get_condition(condition).features
-    true = tuple(float(x) for x in parse_weights(weight_set, features))
-    history = tuple({"weights": list(true), "trajectory_error": 1e-4 / (i + 1), "cost_gap": -0.1} for i in range(3))
-    return CaseResult(
-        algorithm=algorithm,
-        weight_set=weight_set,
-        condition=condition,
-        seed=seed,
-        features=features,
-        status="failed" if failed else "converged",
-        reason="RuntimeError: synthetic failure" if failed else "",
-        weights=(math.nan,) * len(features) if failed else true,
-        true_weights=true,
-        weight_error=math.nan if failed else weight_error,
-        trajectory_error=math.nan if failed else 1e-5,
-        n_solves=3,
-        wall_time=1.5,
-        history=() if failed else history,
-        chosen_iteration=None if failed else 2,
-        config=dict(config or {}),
-        demo_features={"hip": 1e-3, "knee": 1e-3, "dtau": 1e-4},
-        demo_speed=0.27,
-    )
 
 
 @pytest.fixture(scope="session")

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.demo import Demonstration, DemonstrationFileError
+from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write, check_output_dir, read_bytes
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
@@ -135,13 +136,34 @@ def demonstration(
     path = cache_dir() / "demos" / f"{request.key}.npz"
     if use_cache and path.is_file():
         try:
-            return Demonstration.load(path)
+            demo = Demonstration.load(path)
         except DemonstrationFileError:
-            path.unlink(missing_ok=True)  # a stale or broken entry: solve again
+            demo = None  # a stale or broken entry: solved again and replaced
+        if demo is not None and not mismatch(request, demo):
+            return demo
     demo = request.solve(workers)
     if use_cache:
-        demo.save(path)
+        with contextlib.suppress(OSError, ValueError):  # a demonstration that cannot be kept is only solved again
+            demo.save(path)
     return demo
+
+
+def mismatch(request: DemoRequest, demo: Demonstration) -> str:
+    """Why ``demo`` is not the demonstration ``request`` asks for ("" if it is): a cache entry
+    is trusted only once its content is the key it is filed under."""
+    cost = cost_features(get_model(request.model))
+    weights = np.array([demo.weights.get(f, 0.0) for f in cost])
+    norm = np.linalg.norm(weights)
+    checks = [
+        (demo.model == request.model, f"model {demo.model!r}"),
+        (norm > 0 and np.allclose(weights / norm, request.weights, atol=1e-9), f"weights {dict(demo.weights)}"),
+        (demo.params.to_dict() == request.params.to_dict(), "other model parameters"),
+        (demo.task == request.task, f"task {demo.task}"),
+        (demo.seed == request.seed, f"multi-start seed {demo.seed}"),
+        (demo.n_intervals == request.n_intervals, f"{demo.n_intervals} intervals"),
+        (demo.multistart is not None and len(demo.multistart.starts) == request.starts, "another multi-start size"),
+    ]
+    return next((what for ok, what in checks if not ok), "")
 
 
 #: Largest reference file read back (a walker's is about 50 kB).
@@ -154,8 +176,10 @@ class ReferenceCache:
     Every algorithm of a suite, and the scoring of every case, start from the reference of
     the same observation (its projection, smoothed for a noisy one: up to five solves).
     Kept under ``<cache>/references/<key>.npz`` (the key hashes the observation, model,
-    parameters and task, and :data:`SOLVER_REVISION`), written atomically; an unreadable
-    entry is treated as absent.
+    parameters and task, and :data:`SOLVER_REVISION`), written atomically, with the key
+    inside: an unreadable entry, or one whose recorded key is not its name's (a file of
+    another observation copied over it), is treated as absent, so it is computed again and
+    replaced.
     """
 
     def __init__(self, root: Path | None = None):
@@ -170,7 +194,9 @@ class ReferenceCache:
             return None
         try:
             with np.load(io.BytesIO(read_bytes(path, MAX_REFERENCE_BYTES, "reference")), allow_pickle=False) as f:
-                arrays = {k: f[k] for k in ("x", "lam_x", "lam_g", "report", "solves", "seconds")}
+                arrays = {k: f[k] for k in ("key", "x", "lam_x", "lam_g", "report", "solves", "seconds")}
+            if str(arrays["key"]) != key:
+                return None
             report = SolverReport(**json.loads(str(arrays["report"])))
             point = StartPoint(*(np.asarray(arrays[k], dtype=float) for k in ("x", "lam_x", "lam_g")))
             return point, report, int(arrays["solves"]), float(arrays["seconds"])
@@ -181,6 +207,7 @@ class ReferenceCache:
         def write(f) -> None:
             np.savez(
                 f,
+                key=np.array(key),
                 x=point.x,
                 lam_x=point.lam_x,
                 lam_g=point.lam_g,

@@ -3,7 +3,8 @@
 The parent builds the trajectory solver before forking, so workers start at once. Each
 worker runs one case and sends its result back through a pipe; the parent (the runner)
 writes it. A worker that dies without reporting becomes a failed result with its exit
-code; workers die with the parent (Linux), so a killed run leaves no orphaned cases.
+code; workers die with the parent however it dies (:mod:`ioc_bench.processes`), so a killed
+run leaves no orphaned cases.
 Each worker's numpy BLAS gets this machine's cores divided among the workers: unlimited,
 two workers with two BLAS threads each on 2 cores ran inverse-kkt's dense least squares
 2-3x slower (docs/speed.md). CasADi's own OpenBLAS (IPOPT's MUMPS) is not limited.
@@ -12,12 +13,9 @@ two workers with two BLAS threads each on 2 cores ran inverse-kkt's dense least 
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import itertools
 import multiprocessing as mp
 import os
-import signal
-import sys
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 
@@ -27,6 +25,7 @@ from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.executor import Job, execute, failure_of
 from ioc_bench.bench.results import parse_result
 from ioc_bench.checks import check_count
+from ioc_bench.processes import die_with_parent
 from ioc_bench.trajopt.forward_problem import get_forward_problem
 
 
@@ -60,7 +59,7 @@ class ProcessPool:
     def submit(self, job: Job) -> int:
         assert self._ctx is not None, "start() first"
         parent, child = self._ctx.Pipe(duplex=False)
-        process = self._ctx.Process(target=_work, args=(child, job, self._blas_threads), daemon=True)
+        process = self._ctx.Process(target=_work, args=(child, job, self._blas_threads, os.getpid()), daemon=True)
         process.start()
         child.close()
         handle = next(self._ids)
@@ -90,19 +89,11 @@ class ProcessPool:
             self.cancel(handle)
 
 
-def _work(conn: Connection, job: Job, blas_threads: int) -> None:
-    _die_with_parent()
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent decides what to do on Ctrl-C
+def _work(conn: Connection, job: Job, blas_threads: int, parent_pid: int) -> None:
+    die_with_parent(parent_pid)  # no orphaned case, and Ctrl-C is the parent's to handle
     with threadpool_limits(limits=blas_threads), contextlib.suppress(BrokenPipeError):
         conn.send(execute(job).to_dict())
     conn.close()
-
-
-def _die_with_parent() -> None:
-    """Ask Linux to kill this worker if the parent dies (no orphaned cases)."""
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL("libc.so.6").prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
 
 
 def _collect(worker: _Worker) -> CaseResult | None:

@@ -48,6 +48,7 @@ from ioc_bench.fileio import (
 from ioc_bench.ioc.algorithm import WeightRegion
 from ioc_bench.ioc.contract import MAX_STATUS, check_region
 from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
+from ioc_bench.processes import hold_across_fork
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``).
@@ -106,8 +107,12 @@ def write_result(root: str | os.PathLike, spec: CaseSpec, result: CaseResult) ->
     linked algorithm folder) or cannot be named there; nothing is written then.
     """
     check_case_path(root, spec)
+    check_still_held(root)
     data = result.to_dict() | {"case_key": spec.key, "case_config": dict(spec.config)}
-    return atomic_write_json(spec.path(root), data)
+    try:
+        return atomic_write_json(spec.path(root), data)
+    except OSError as exc:  # a full disk, a folder replaced by a file: nothing half-written is left
+        raise ResultFileError(f"cannot write the result of {spec.key}: {_one_line(exc)}") from None
 
 
 def check_case_path(root: str | os.PathLike, spec: CaseSpec) -> Path:
@@ -271,6 +276,7 @@ def check_result(result: CaseResult) -> None:
         )
     _check_estimate(result)
     _check_numbers(result)
+    _check_derived(result)
     _check_region(result)
     _check_transfer(result)
     if not STATUS_PATTERN.fullmatch(result.status):
@@ -290,6 +296,47 @@ def _check_estimate(result: CaseResult) -> None:
         raise ValueError(
             f"weights of a case that did not fail must be finite, non-negative and not all zero, "
             f"got {shown(list(result.weights))}"
+        )
+
+
+#: How far a recorded number may be from what it derives from (float round-trips only).
+DERIVED_TOLERANCE = 1e-9
+
+
+def _check_derived(result: CaseResult) -> None:
+    """Numbers derived from others in the same record agree with them: the estimate has unit
+    norm, the weight error is the mean absolute difference to the true weights, the found
+    trajectory error is the chosen iteration's, and the forward solves are the oracle's count."""
+    if not result.failed:
+        w, true = np.array(result.weights, dtype=float), np.array(result.true_weights, dtype=float)
+        if abs(np.linalg.norm(w) - 1.0) > 1e-6:
+            raise ValueError(f"weights must have unit norm, got norm {np.linalg.norm(w):.6g}")
+        expected = float(np.mean(np.abs(w - true)))
+        if not abs(result.weight_error - expected) <= DERIVED_TOLERANCE:
+            raise ValueError(
+                f"weight_error {shown(result.weight_error)} is not the mean |weights - true_weights| of the "
+                f"record, {expected:.12g}"
+            )
+    _check_found_error(result)
+    calls = result.oracle.get("calls") if isinstance(result.oracle, dict) else None
+    if isinstance(calls, dict):
+        solves = calls.get("optimize", 0) + calls.get("project", 0)
+        if result.oracle.get("forward_solves") != solves or result.n_solves != solves:
+            raise ValueError(
+                f"n_solves {shown(result.n_solves)} is not the oracle's count of forward solves ({shown(solves)})"
+            )
+
+
+def _check_found_error(result: CaseResult) -> None:
+    i, found = result.chosen_iteration, result.found_trajectory_error
+    chosen = result.history[i].get("trajectory_error") if i is not None else None
+    expected = float(chosen) if _number(chosen) and math.isfinite(chosen) else None
+    same = found == expected or (
+        found is not None and expected is not None and abs(found - expected) <= DERIVED_TOLERANCE * max(1.0, expected)
+    )
+    if not same:
+        raise ValueError(
+            f"found_trajectory_error {shown(found)} is not the chosen iteration's trajectory error {shown(expected)}"
         )
 
 
@@ -466,9 +513,9 @@ def results_directory(root: str | os.PathLike) -> Iterator[Path]:
     """Hold ``root`` for writing: create it, lock it, and remove stale temporaries.
 
     Only one run may write to a results directory at a time (an advisory lock on the
-    folder, released when the process ends, however it ends); temporaries left by a
-    killed writer are deleted. Raises :class:`ResultFileError` if ``root`` cannot be
-    created or another run holds it.
+    folder, released when the process that took it ends, however it ends: forked workers
+    never keep it); temporaries left by a killed writer are deleted. Raises
+    :class:`ResultFileError` if ``root`` cannot be created or another run holds it.
     """
     root = Path(root)
     try:
@@ -477,11 +524,44 @@ def results_directory(root: str | os.PathLike) -> Iterator[Path]:
     except OSError as exc:
         raise ResultFileError(f"cannot use {root} as a results directory: {_one_line(exc)}") from None
     try:
-        _lock(fd, root)
-        remove_temporaries(root)
-        yield root
+        with hold_across_fork(fd):  # a forked worker never keeps the lock
+            _lock(fd, root)
+            key = _held_key(root)
+            _HELD[key] = fd
+            try:
+                remove_temporaries(root)
+                yield root
+            finally:
+                del _HELD[key]
     finally:
         os.close(fd)
+
+
+#: The results directories this process holds, by path, with the descriptor that holds each.
+_HELD: dict[str, int] = {}
+
+
+def _held_key(root: Path) -> str:
+    return os.path.abspath(root)
+
+
+def check_still_held(root: str | os.PathLike) -> None:
+    """If this process holds ``root`` (:func:`results_directory`), :class:`ResultFileError`
+    when the path no longer names the folder it locked (moved away or replaced while the
+    run went on): its results must not land in a folder another run may hold."""
+    fd = _HELD.get(_held_key(Path(root)))
+    if fd is None:
+        return
+    held = os.fstat(fd)
+    try:
+        now = os.stat(root)
+    except OSError:
+        now = None
+    if now is None or (now.st_dev, now.st_ino) != (held.st_dev, held.st_ino):
+        raise ResultFileError(
+            f"{root} is no longer the results folder this run holds (moved or replaced while it ran); "
+            "its finished cases are where the folder went"
+        )
 
 
 def check_not_held(root: str | os.PathLike) -> None:

@@ -1,7 +1,10 @@
 """The ``ioc-bench`` command line: one module per subcommand, each with ``register``.
 
 Every command validates its arguments up front; bad input exits with code 2 and a
-one-line message, never a traceback. Commands that print a report take ``--json``.
+one-line message, never a traceback. So does a fault the run meets on its way (a full
+disk, its results folder moved or taken by another run, a worker killed: see
+:func:`~ioc_bench.cli.common.is_run_fault`), after everything finished so far is kept.
+Commands that print a report take ``--json``.
 """
 
 from __future__ import annotations
@@ -11,7 +14,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from ioc_bench.cli.common import UsageError, fail
+from ioc_bench.cli.common import UsageError, fail, is_run_fault
 
 #: Subcommand modules, in the order ``--help`` lists them.
 COMMANDS: tuple[str, ...] = (
@@ -44,14 +47,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    command = "ioc-bench"
     try:
+        args = build_parser().parse_args(argv)  # imports every command: Ctrl-C is honoured here too
+        command = f"ioc-bench {args.command}"
         return int(args.run(args) or 0)
     except UsageError as exc:
-        fail(f"ioc-bench {args.command}: error: {exc}")
+        fail(f"{command}: error: {exc}")
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:
+        if not is_run_fault(exc):
+            raise  # a bug: its traceback is what a report needs
+        fail(f"{command}: error: {exc}")
     return 0
 
 

@@ -31,6 +31,19 @@ def fail(message: str) -> NoReturn:
     raise SystemExit(2)
 
 
+def is_run_fault(exc: BaseException) -> bool:
+    """Whether ``exc`` is a fault of the run's surroundings, reported in one line (exit 2):
+    a file system error (full disk, a folder replaced by a file, no permission), a results
+    folder or file the run cannot use, a demonstration file that does not read, a worker
+    process that died. Anything else is a bug and keeps its traceback."""
+    from ioc_bench.bench.results import ResultFileError
+    from ioc_bench.demo import DemonstrationFileError
+    from ioc_bench.fileio import PathError
+    from ioc_bench.trajopt.multistart import WorkerDied
+
+    return isinstance(exc, (OSError, ResultFileError, DemonstrationFileError, PathError, WorkerDied))
+
+
 def path_arg(text: str) -> Path:
     """An argparse type: a path that is usable text (not empty, no NUL, names not too long)."""
     try:

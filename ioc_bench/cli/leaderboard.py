@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from ioc_bench.cli.common import (
     UsageError,
@@ -20,9 +19,8 @@ from ioc_bench.cli.common import (
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("leaderboard", help="write the leaderboard from result files", description=__doc__)
     p.add_argument("results", type=path_arg, help="results directory (as written by `ioc-bench run`)")
-    p.add_argument(
-        "--out", type=path_arg, default=Path("leaderboards"), help="output directory (default leaderboards/)"
-    )
+    out_help = "output directory (default: the results directory itself; a board already there is replaced)"
+    p.add_argument("--out", type=path_arg, default=None, help=out_help)
     add_json_flag(p)
     p.set_defaults(run=run)
 
@@ -36,13 +34,16 @@ def run(args: argparse.Namespace) -> int:
         results = load_results(args.results)
     if not results:
         raise UsageError(no_results_message(args.results))
-    output_dir(args.out)
+    out = args.results if args.out is None else args.out
+    output_dir(out)
     for name in FILES:
-        output_file(args.out / name)
-    paths = write_leaderboard(results, args.out, source=str(args.results))
+        output_file(out / name)
+    replaced = [str(out / name) for name in FILES if (out / name).is_file()]
+    paths = write_leaderboard(results, out, source=str(args.results))
     if args.json:
-        print_json({"files": [str(p) for p in paths], "cells": [c.__dict__ for c in summarise(results)]})
+        files = [str(p) for p in paths]
+        print_json({"files": files, "replaced": replaced, "cells": [c.__dict__ for c in summarise(results)]})
     else:
         print(paths[0].read_text())
-        print(f"wrote {', '.join(str(p) for p in paths)}")
+        print(f"wrote {', '.join(str(p) for p in paths)}" + (f" (replacing {', '.join(replaced)})" if replaced else ""))
     return 0

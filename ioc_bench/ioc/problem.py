@@ -234,6 +234,8 @@ class IOCProblem:
     @cached_property
     def _reference(self) -> OracleSolution:
         stored = self.reference_store.get(self._reference_key) if self.reference_store else None
+        if stored is not None and not self._fits(stored[0]):
+            stored = None  # not a point of this problem: computed again (and the entry replaced)
         if stored is not None:
             point, report, solves, seconds = stored
             self.stats.calls["project"] += solves  # the projections it took, counted as if made here
@@ -249,6 +251,12 @@ class IOCProblem:
             solves = self.stats.calls["project"] - before
             self.reference_store.put(self._reference_key, found.point, found.report, solves, time.perf_counter() - t0)
         return found
+
+    def _fits(self, point: StartPoint) -> bool:
+        """Whether a stored primal-dual point has this problem's shape and satisfies its constraints."""
+        f = self._forward
+        shapes = (point.x.shape, point.lam_x.shape, point.lam_g.shape) == ((f.n_x,), (f.n_x,), (f.n_g,))
+        return shapes and bool(np.all(np.isfinite(point.x))) and self.is_feasible(f.trajectory(point.x, self.params))
 
     @cached_property
     def _reference_key(self) -> str:

@@ -12,10 +12,12 @@ import multiprocessing as mp
 import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import asdict, dataclass
 from typing import Any
 
 from ioc_bench.model.catalogue import get_model
+from ioc_bench.processes import die_with_parent
 from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, get_forward_problem
 from ioc_bench.trajopt.solution import SolveResult, SolverReport
 
@@ -101,14 +103,39 @@ def solve_starts(
                 on_done(i, results[i])
         return results  # type: ignore[return-value]
     get_forward_problem(forward.model, forward.n_intervals)  # build once here; forked workers inherit it
-    with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
+    pool = ProcessPoolExecutor(workers, _context(), initializer=die_with_parent, initargs=(os.getpid(),))
+    try:
         futures = {pool.submit(_solve_one, job): i for i, job in enumerate(jobs)}
         for fut in as_completed(futures):
             i = futures[fut]
             results[i] = fut.result()
             if on_done:
                 on_done(i, results[i])
+    except BrokenProcessPool:
+        raise WorkerDied(f"a multi-start worker died ({_exit_codes(pool)}); no start was lost on disk") from None
+    finally:
+        _stop(pool)
     return results  # type: ignore[return-value]
+
+
+class WorkerDied(RuntimeError):
+    """A multi-start worker process died (killed, or out of memory) before it reported."""
+
+
+def _exit_codes(pool: ProcessPoolExecutor) -> str:
+    codes = sorted({p.exitcode for p in (pool._processes or {}).values() if p.exitcode not in (None, 0)})
+    return "exit code " + ", ".join(map(str, codes)) if codes else "no exit code"
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Stop the pool now, whatever is still running (an interrupt must not wait for the starts)."""
+    processes = list((pool._processes or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.kill()
+    for process in processes:
+        process.join()
 
 
 def pick_best(results: Sequence[SolveResult], origins: Sequence[str]) -> tuple[int, MultiStartSummary]:

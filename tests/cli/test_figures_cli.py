@@ -3,41 +3,17 @@
 from __future__ import annotations
 
 import json
-import math
 
 import pytest
+from synthetic import synthetic_result
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.results import CaseSpec, write_result
 from ioc_bench.cli import main
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.weights import parse_weights
 
 
 def _case(algorithm: str, weight_set: str, condition: str, status: str = "converged") -> CaseResult:
-    features = ALL_FEATURES if condition == "distractor" else COST_FEATURES
-    true = tuple(parse_weights(weight_set, features))
-    failed = status == "failed"
-    history = tuple({"weights": list(true), "trajectory_error": 1e-4 / (i + 1), "cost_gap": -0.1} for i in range(3))
-    return CaseResult(
-        algorithm=algorithm,
-        weight_set=weight_set,
-        condition=condition,
-        seed=0,
-        features=features,
-        status=status,
-        reason="synthetic failure" if failed else "",
-        weights=(math.nan,) * len(features) if failed else true,
-        true_weights=true,
-        weight_error=math.nan if failed else 0.01,
-        trajectory_error=math.nan if failed else 1e-5,
-        n_solves=3,
-        wall_time=1.0,
-        history=() if failed else history,
-        chosen_iteration=None if failed else 2,
-        demo_features={"hip": 1e-3, "knee": 1e-3, "dtau": 1e-4},
-        demo_speed=0.27,
-    )
+    return synthetic_result(algorithm, weight_set, condition, failed=status == "failed")
 
 
 @pytest.fixture(scope="module")

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from synthetic import estimate_with_error
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.results import CaseSpec, parse_result, write_result
@@ -50,6 +51,7 @@ def make_case(
         for t in np.linspace(0, 1, 4)
     )
     failed = status == "failed"
+    estimate = estimate_with_error(true, weight_error)
     return CaseResult(
         algorithm=algorithm,
         weight_set=weight_set,
@@ -58,14 +60,15 @@ def make_case(
         features=features,
         status=status,
         reason="RuntimeError: synthetic failure" if failed else "",
-        weights=(math.nan,) * len(features) if failed else tuple(true),
+        weights=(math.nan,) * len(features) if failed else estimate,
         true_weights=tuple(true),
-        weight_error=math.nan if failed else weight_error,
+        weight_error=math.nan if failed else float(np.mean(np.abs(np.array(estimate) - true))),
         trajectory_error=math.nan if failed else trajectory_error,
         n_solves=0 if failed else 4,
         wall_time=1.0,
         history=() if failed else history,
         chosen_iteration=None if failed else 3,
+        found_trajectory_error=None if failed else history[3]["trajectory_error"],
         demo_features=dict(demos[weight_set]) | {"torso": 5e-3, "steplen": 7e-3, "footheight": 4e-2},
         demo_speed=0.34 if condition == "ideal-fast" else 0.27,
     )

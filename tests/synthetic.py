@@ -1,0 +1,70 @@
+"""Made-up case results, consistent with their own derived numbers, for tests that need no solve."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def estimate_with_error(true, error: float) -> tuple[float, ...]:
+    """Unit non-negative weights whose mean absolute difference to the unit ``true`` is ``error``
+    (on the way from ``true`` to the simplex vertex farthest from it), so a made-up result is
+    consistent with its own weight error."""
+    true = np.asarray(true, dtype=float)
+    vertex = np.eye(len(true))[int(np.argmin(true))]
+
+    def towards(t: float) -> np.ndarray:
+        w = (1 - t) * true + t * vertex
+        return w / np.linalg.norm(w)
+
+    def gap(t: float) -> float:
+        return float(np.mean(np.abs(towards(t) - true))) - error
+
+    assert 0 <= error <= gap(1.0) + error, f"no unit weights are {error} away from {true}"
+    low, high = 0.0, 1.0
+    for _ in range(200):
+        mid = (low + high) / 2
+        low, high = (mid, high) if gap(mid) < 0 else (low, mid)
+    return tuple(float(x) for x in towards((low + high) / 2))
+
+
+def synthetic_result(
+    algorithm: str = "log-barrier",
+    weight_set: str = "nominal",
+    condition: str = "ideal",
+    seed: int = 0,
+    failed: bool = False,
+    config: dict | None = None,
+    weight_error: float = 0.01,
+):
+    """A plausible case result without running anything (an estimate ``weight_error`` from the truth)."""
+    import math
+
+    from ioc_bench.bench.case import CaseResult
+    from ioc_bench.bench.conditions import get_condition
+    from ioc_bench.weights import parse_weights
+
+    features = get_condition(condition).features
+    true = tuple(float(x) for x in parse_weights(weight_set, features))
+    estimate = estimate_with_error(true, weight_error)
+    history = tuple({"weights": list(estimate), "trajectory_error": 1e-4 / (i + 1), "cost_gap": -0.1} for i in range(3))
+    return CaseResult(
+        algorithm=algorithm,
+        weight_set=weight_set,
+        condition=condition,
+        seed=seed,
+        features=features,
+        status="failed" if failed else "converged",
+        reason="RuntimeError: synthetic failure" if failed else "",
+        weights=(math.nan,) * len(features) if failed else estimate,
+        true_weights=true,
+        weight_error=math.nan if failed else float(np.mean(np.abs(np.array(estimate) - true))),
+        trajectory_error=math.nan if failed else 1e-5,
+        found_trajectory_error=None if failed else history[2]["trajectory_error"],
+        n_solves=3,
+        wall_time=1.5,
+        history=() if failed else history,
+        chosen_iteration=None if failed else 2,
+        config=dict(config or {}),
+        demo_features={"hip": 1e-3, "knee": 1e-3, "dtau": 1e-4},
+        demo_speed=0.27,
+    )
