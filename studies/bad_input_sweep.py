@@ -553,7 +553,7 @@ def _set_traps() -> None:
     def trap(*args, **kwargs):
         raise _Trap()
 
-    runner.prepare_demonstrations = trap
+    runner.prepare_inputs = trap
     ForwardProblem.solve = trap  # every solve, whoever asks
     ForwardProblem.__init__ = trap  # and every build
 

@@ -338,7 +338,7 @@ def test_property_every_command_refuses_a_hostile_path_before_any_work(
     def forbidden(*args, **kwargs):
         raise AssertionError("expensive work started before the path was checked")
 
-    for owner, name in ((runner, "prepare_demonstrations"), (ForwardProblem, "solve"), (ForwardProblem, "__init__")):
+    for owner, name in ((runner, "prepare_inputs"), (ForwardProblem, "solve"), (ForwardProblem, "__init__")):
         monkeypatch.setattr(owner, name, forbidden)
     tmp = tmp_path_factory.mktemp("cli")
     res = tmp / "results"

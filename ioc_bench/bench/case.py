@@ -17,7 +17,6 @@ import hashlib
 import json
 import os
 import time
-import traceback
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -27,17 +26,18 @@ import numpy as np
 
 from ioc_bench._version import __version__
 from ioc_bench.bench.conditions import Condition, get_condition
-from ioc_bench.bench.demos import DemoRequest, ReferenceCache, check_cache, demonstration
+from ioc_bench.bench.demos import DemoRequest, ReferenceCache, demonstration
 from ioc_bench.bench.observe import observe
 from ioc_bench.bench.scoring import unit, weight_error
 from ioc_bench.bench.transfer import transfer, transfer_task
+from ioc_bench.cache import check_cache
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import cost_features
 from ioc_bench.ioc.algorithm import IOCResult
-from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.fit import Fit, fit
 from ioc_bench.ioc.oracle import OracleSolution
-from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProblem
+from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import (
     AlgorithmError,
     canonical_config,
@@ -148,6 +148,28 @@ class CaseSpec:
         params = self.gait_model.default_params if params is None else params
         return DemoRequest(self.true_weights, params, task, self.seed, self.model)
 
+    # -- the case protocol (:mod:`ioc_bench.bench.protocol`) ---------------------------------------
+    track = "synthetic"
+
+    def needs(self) -> list[DemoRequest]:
+        """The demonstrations the case needs: every trial's and, if it has one, the one its cost
+        is tested at (prepared once by the runner for every case that shares them)."""
+        other = self.transfer_request()
+        return self.demo_requests() + ([other] if other is not None else [])
+
+    def run(self, inputs: Mapping[DemoRequest, Demonstration]) -> CaseResult:
+        """Run and score the case (in a worker) on the prepared demonstrations."""
+        first, *others = (inputs[r] for r in self.demo_requests())
+        other = self.transfer_request()
+        return run_spec(self, demo=first, transfer_demo=None if other is None else inputs[other], trial_demos=others)
+
+    def failure(self, reason: str, config: Mapping[str, Any] | None = None) -> CaseResult:
+        """The record of the case when it could not run (it timed out, its worker died)."""
+        return failure(self, reason, config)
+
+    def write_extras(self, root: str | os.PathLike, record: CaseResult) -> None:
+        """Nothing: a synthetic case's figures come from ``ioc-bench figures``."""
+
     @property
     def key(self) -> str:
         """Relative path of the case's result file, without suffix."""
@@ -239,6 +261,10 @@ class CaseResult:
     def failed(self) -> bool:
         return self.status == "failed"
 
+    def headline(self) -> str:
+        """The case's outcome in a few words (for progress lines)."""
+        return f"FAILED ({self.reason})" if self.failed else f"weight error {self.weight_error:.4f}"
+
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 
@@ -324,22 +350,13 @@ def run_spec(
     if unsolved:
         base["demo_features"] = {}  # a failed demonstration's features describe no optimum
         return _failed(base, f"the demonstration could not be solved ({unsolved[0].solver.status})")
-    if len(demos) > 1 and not algo.multi_trial:
-        return _failed(base, f"{spec.algorithm} does not handle several trials (its multi_trial is False)")
     problem = _problem(spec, params, demos)
-    t0 = time.perf_counter()
-    try:
-        result = algo.fit(problem)
-    except Exception as exc:  # the algorithm's fault is a recorded result, not a crash
-        last = traceback.extract_tb(exc.__traceback__)[-1]
-        return _failed(base, f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})", problem, t0)
-    wall = _elapsed(problem, t0)
-    reason = check_result(result, problem.n_features)
-    if reason:
-        return _failed(base, reason, problem, t0)
+    outcome = fit(spec.algorithm, spec.config, problem)
+    if outcome.failed:
+        return _failed(base, outcome.reason, outcome)
     truth = None if other is None else (transfer_demo if transfer_demo is not None else demonstration(other))
     t1 = time.perf_counter()
-    scored = _score(base, result, problem, wall)
+    scored = _score(base, outcome, problem)
     if truth is not None and not truth.solver.success:
         scored = replace(scored, transfer={"speed": other.task.speed, "status": "no demonstration"})
     elif truth is not None:
@@ -442,9 +459,10 @@ def regenerate(problem: IOCProblem, weights: np.ndarray) -> OracleSolution:
     return final if final.success else problem.optimize(weights)
 
 
-def _score(base: dict, result: IOCResult, problem: IOCProblem | MultiTrialProblem, wall: float) -> CaseResult:
+def _score(base: dict, outcome: Fit, problem: IOCProblem | MultiTrialProblem) -> CaseResult:
+    result, spent = outcome.result, outcome.stats  # the algorithm's counts, before scoring adds its own
+    assert result is not None
     est = unit(np.asarray(result.weights, dtype=float))
-    spent = problem.stats.copy()  # the algorithm's, before scoring adds its own solves
     regenerated = [regenerate(trial, est) for trial in problem.trials]
     errors = [
         trajectory_error(r.trajectory, trial.observed) if r.success else float("nan")
@@ -460,7 +478,7 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem | MultiTrialProble
         trajectory_error=traj_err,
         found_trajectory_error=_found(result),
         n_solves=spent.forward_solves,
-        wall_time=wall,
+        wall_time=outcome.wall_time,
         history=tuple(h.to_dict() for h in result.history),
         chosen_iteration=result.chosen_iteration,
         oracle=spent.to_dict(),
@@ -480,13 +498,7 @@ def _found(result: IOCResult) -> float | None:
     return error if np.isfinite(error) else None
 
 
-def _elapsed(problem: IOCProblem | MultiTrialProblem, t0: float) -> float:
-    """Seconds since ``t0``, plus those of references the problem took from the store
-    (computed by an earlier case), so a case's time does not depend on what ran before."""
-    return time.perf_counter() - t0 + problem.stats.seconds[REUSED_REFERENCE]
-
-
-def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: float | None = None) -> CaseResult:
+def _failed(base: dict, reason: str, outcome: Fit | None = None) -> CaseResult:
     n = len(base["features"])
     return CaseResult(
         **base,
@@ -495,9 +507,9 @@ def _failed(base: dict, reason: str, problem: IOCProblem | None = None, t0: floa
         weights=(float("nan"),) * n,
         weight_error=float("nan"),
         trajectory_error=float("nan"),
-        n_solves=problem.stats.forward_solves if problem else 0,
-        wall_time=_elapsed(problem, t0) if t0 is not None and problem is not None else 0.0,
-        oracle=problem.stats.to_dict() if problem else {},
+        n_solves=outcome.n_solves if outcome else 0,
+        wall_time=outcome.wall_time if outcome else 0.0,
+        oracle=outcome.stats.to_dict() if outcome else {},
     )
 
 

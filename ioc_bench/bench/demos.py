@@ -2,8 +2,8 @@
 
 A demonstration is the 15-start optimum for (weights, model, task, seed); it is solved
 once and reused by every case and suite that needs it. The cache directory is
-``$IOC_BENCH_CACHE`` or ``~/.cache/ioc-bench``; entries are keyed by a hash of the inputs
-and of :data:`SOLVER_REVISION`, and written atomically.
+:func:`~ioc_bench.cache.cache_dir`; entries are keyed by a hash of the inputs and of
+:data:`SOLVER_REVISION`, written atomically, and checked against that key when read.
 """
 
 from __future__ import annotations
@@ -12,7 +12,6 @@ import contextlib
 import hashlib
 import io
 import json
-import os
 import zipfile
 from dataclasses import dataclass
 from functools import cached_property
@@ -21,9 +20,10 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.cache import cache_dir
 from ioc_bench.demo import Demonstration, DemonstrationFileError
 from ioc_bench.features import cost_features
-from ioc_bench.fileio import atomic_write, check_output_dir, read_bytes
+from ioc_bench.fileio import atomic_write, read_bytes
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.task import Task
@@ -35,25 +35,6 @@ SOLVER_REVISION = 5
 #: Multi-start seed of a demonstration made outside a case (a case uses its own seed, so
 #: seeds vary the demonstration as a new experiment would).
 DEMO_SEED = 0
-
-
-def cache_dir() -> Path:
-    """``$IOC_BENCH_CACHE``, or ``~/.cache/ioc-bench``; ``ValueError`` if the variable is set but empty."""
-    value = os.environ.get("IOC_BENCH_CACHE")
-    if value == "":
-        raise ValueError("IOC_BENCH_CACHE is set but empty: unset it or name a folder for the demonstration cache")
-    return Path(value) if value is not None else Path.home() / ".cache" / "ioc-bench"
-
-
-def check_cache() -> Path:
-    """The cache's folder of demonstrations if it can be used, else ``ValueError`` (one line):
-    checked before the work, not when the first demonstration is saved."""
-    try:
-        return check_output_dir(cache_dir() / "demos")
-    except ValueError as exc:
-        raise ValueError(
-            f"the demonstration cache (IOC_BENCH_CACHE or ~/.cache/ioc-bench) cannot be used: {exc}"
-        ) from None
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,6 +82,10 @@ class DemoRequest:
 
     def __hash__(self) -> int:
         return hash(self.key)
+
+    def prepare(self) -> Demonstration:
+        """The demonstration: from the cache if its entry is this request's, else solved (all cores)."""
+        return demonstration(self)
 
     def solve(self, workers: int | None = None) -> Demonstration:
         return optimize_gait(

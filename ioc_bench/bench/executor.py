@@ -9,8 +9,8 @@ per-case time limit, for every executor alike. Built in:
 
 Executors are registered as ``"module:Class"`` strings and imported only when asked
 for, so Ray is never imported by a local run. Whatever goes wrong with a job (its
-worker dies, its Ray task fails, it runs over the time limit) becomes a failed
-:class:`CaseResult` with the reason: a run never stops for one case.
+worker dies, its Ray task fails, it runs over the time limit) becomes the case's failed
+record with the reason: a run never stops for one case.
 """
 
 from __future__ import annotations
@@ -18,12 +18,12 @@ from __future__ import annotations
 import importlib
 import time
 from collections import deque
-from collections.abc import Callable, Hashable, Sequence
-from dataclasses import dataclass
-from typing import Protocol
+from collections.abc import Callable, Hashable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Protocol
 
-from ioc_bench.bench.case import CaseResult, CaseSpec, failure, run_spec
-from ioc_bench.demo import Demonstration
+from ioc_bench.bench.protocol import Case, Record
+from ioc_bench.checks import one_line
 from ioc_bench.ioc.registry import make_algorithm
 
 #: Default per-case time limit, seconds.
@@ -36,19 +36,16 @@ EXECUTORS: dict[str, str] = {
     "ray": "ioc_bench.bench.ray_executor:RayExecutor",
 }
 
-Finish = Callable[[CaseSpec, CaseResult], None]
+Finish = Callable[[Case, Record], None]
 
 
 @dataclass(frozen=True, eq=False)
 class Job:
-    """One case to run, its true demonstration and the one its cost is tested at (shipped
-    along, so workers need no shared disk)."""
+    """One case to run with the inputs it needs, prepared by the runner (shipped along, so
+    workers need no shared disk)."""
 
-    spec: CaseSpec
-    demo: Demonstration
-    transfer_demo: Demonstration | None = None
-    #: the demonstrations of a multi-trial case's other trials
-    trial_demos: tuple[Demonstration, ...] = ()
+    spec: Case
+    inputs: Mapping[Hashable, Any] = field(default_factory=dict)
 
 
 class Executor(Protocol):
@@ -67,7 +64,7 @@ class Executor(Protocol):
 
     def submit(self, job: Job) -> Hashable: ...
 
-    def poll(self, timeout: float) -> list[tuple[Hashable, CaseResult]]: ...
+    def poll(self, timeout: float) -> list[tuple[Hashable, Record]]: ...
 
     def cancel(self, handle: Hashable) -> None: ...
 
@@ -120,19 +117,18 @@ def schedule(executor: Executor, jobs: Sequence[Job], time_limit: float, finish:
         executor.stop()
 
 
-def execute(job: Job) -> CaseResult:
+def execute(job: Job) -> Record:
     """Run one case (in a worker); errors outside the algorithm become failed results too."""
-    spec = job.spec
     try:
-        return run_spec(spec, demo=job.demo, transfer_demo=job.transfer_demo, trial_demos=job.trial_demos)
-    except Exception as exc:  # e.g. a plugin that is not installed on a Ray node
-        return failure_of(spec, f"{type(exc).__name__}: {exc}")
+        return job.spec.run(job.inputs)
+    except Exception as exc:  # e.g. a plugin that is not installed on a Ray node, a data file gone
+        return failure_of(job.spec, f"{type(exc).__name__}: {one_line(str(exc))}")
 
 
-def failure_of(spec: CaseSpec, reason: str) -> CaseResult:
+def failure_of(spec: Case, reason: str) -> Record:
     """The failed record of ``spec`` with ``reason``, carrying the case's effective config."""
     try:
         config = make_algorithm(spec.algorithm, **spec.config).config_dict()
     except ValueError:  # the algorithm is not available here: keep what identifies the case
         config = dict(spec.config)
-    return failure(spec, reason, config)
+    return spec.failure(reason, config)

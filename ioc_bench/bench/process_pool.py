@@ -23,7 +23,7 @@ from threadpoolctl import threadpool_limits
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.executor import Job, execute, failure_of
-from ioc_bench.bench.results import parse_result
+from ioc_bench.bench.results import parse_any
 from ioc_bench.checks import check_count
 from ioc_bench.processes import die_with_parent
 from ioc_bench.trajopt.forward_problem import get_forward_problem
@@ -106,7 +106,7 @@ def _collect(worker: _Worker) -> CaseResult | None:
         worker.process.join()
         worker.conn.close()
         if data is not None:
-            return parse_result(data)
+            return parse_any(data)
         return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
     if not worker.process.is_alive():
         worker.process.join()

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
+from ioc_bench.bench.protocol import Case, Record, Track
 from ioc_bench.checks import TypeMismatch, check_seed, coerce, load_json, one_line, shown
 from ioc_bench.features import FEATURES
 from ioc_bench.fileio import (
@@ -51,9 +52,9 @@ from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, m
 from ioc_bench.processes import hold_across_fork
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
-#: sign, as the robustness suite's ``mass+20``).
+#: sign, as the robustness suite's ``mass+20``; human cases join speeds and subjects by ``+``).
 RESULT_NAME = re.compile(
-    r"[A-Za-z0-9._-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__cfg[0-9a-f]{8})?\.json"
+    r"[A-Za-z0-9._+-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__cfg[0-9a-f]{8})?\.json"
 )
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
@@ -100,7 +101,7 @@ def run_slug(result: CaseResult) -> str:
     return result.algorithm if not config else f"{result.algorithm}__cfg{config_digest(config)}"
 
 
-def write_result(root: str | os.PathLike, spec: CaseSpec, result: CaseResult) -> Path:
+def write_result(root: str | os.PathLike, spec: Case, result: Record) -> Path:
     """Write ``result`` as the file of ``spec`` under ``root`` (atomically).
 
     Raises :class:`ResultFileError` if the file would land outside ``root`` (through a
@@ -115,7 +116,7 @@ def write_result(root: str | os.PathLike, spec: CaseSpec, result: CaseResult) ->
         raise ResultFileError(f"cannot write the result of {spec.key}: {_one_line(exc)}") from None
 
 
-def check_case_path(root: str | os.PathLike, spec: CaseSpec) -> Path:
+def check_case_path(root: str | os.PathLike, spec: Case) -> Path:
     """``spec``'s file under ``root`` if it can be written there and stays inside ``root``.
 
     Raises :class:`ResultFileError` for a name too long for the file system, an algorithm
@@ -134,7 +135,7 @@ def check_case_path(root: str | os.PathLike, spec: CaseSpec) -> Path:
     return path
 
 
-def read_result(path: str | os.PathLike, root: str | os.PathLike | None = None) -> CaseResult:
+def read_result(path: str | os.PathLike, root: str | os.PathLike | None = None) -> Record:
     """Load one result file; raises :class:`ResultFileError` naming the file and the problem.
 
     The file must be a regular file (never a link, FIFO or device) of at most
@@ -145,7 +146,7 @@ def read_result(path: str | os.PathLike, root: str | os.PathLike | None = None) 
     return _read(path, root)[0]
 
 
-def _read(path: str | os.PathLike, root: str | os.PathLike | None) -> tuple[CaseResult, CaseSpec | None]:
+def _read(path: str | os.PathLike, root: str | os.PathLike | None) -> tuple[Record, Case | None]:
     """:func:`read_result`, and with ``root`` the case the file holds."""
     try:
         if root is not None:
@@ -158,7 +159,7 @@ def _read(path: str | os.PathLike, root: str | os.PathLike | None) -> tuple[Case
     except (ValueError, UnicodeDecodeError) as exc:
         raise ResultFileError(f"{path} is not a case result: {_one_line(exc)}") from None
     try:
-        result = parse_result(data)
+        result = parse_any(data)
     except ValueError as exc:
         raise ResultFileError(f"{path} is not a case result: {_one_line(exc)}") from None
     if root is None:
@@ -166,10 +167,23 @@ def _read(path: str | os.PathLike, root: str | os.PathLike | None) -> tuple[Case
     return result, _check_name_matches(Path(path), Path(root), result, data)
 
 
-def _check_name_matches(path: Path, root: Path, result: CaseResult, data: dict) -> CaseSpec:
+def track_of(data: Any) -> Track:
+    """The track whose record ``data`` is (by its ``track`` field; none: the synthetic track)."""
+    name = data.get("track", "synthetic") if isinstance(data, dict) else "synthetic"
+    if name not in TRACKS:
+        raise ValueError(f"track must be one of {', '.join(TRACKS)}, got {shown(name)}")
+    return TRACKS[name]
+
+
+def parse_any(data: Any) -> Record:
+    """A checked record of whichever track ``data`` names (``ValueError`` naming the problem)."""
+    return track_of(data).parse(data)
+
+
+def _check_name_matches(path: Path, root: Path, result: Record, data: dict) -> Case:
     """The case a file holds; :class:`ResultFileError` if it is another than its name (and place) says."""
     try:
-        spec = recorded_spec(result, data.get("case_config"))
+        spec = track_of(data).case_of(result, data.get("case_config"))
     except ValueError as exc:
         raise ResultFileError(f"{path} is not a case result: {_one_line(exc)}") from None
     named = path.relative_to(root).with_suffix("").as_posix() if path.is_relative_to(root) else path.stem
@@ -475,13 +489,13 @@ def _json_files(root: Path, limit: int = 1000) -> list[Path]:
     return found[:limit]
 
 
-def load_results(root: str | os.PathLike) -> list[CaseResult]:
+def load_results(root: str | os.PathLike) -> list[Record]:
     """Every case result under ``root``; any unreadable one, or one that is not the case its
     name says, raises :class:`ResultFileError`."""
     return [read_result(p, root) for p in result_files(root)]
 
 
-def stored_result(root: str | os.PathLike, spec: CaseSpec) -> CaseResult | None:
+def stored_result(root: str | os.PathLike, spec: Case) -> Record | None:
     """The result stored for ``spec`` under ``root``, or None if there is none yet.
 
     Raises :class:`ResultFileError` if the case's file cannot be written there (see
@@ -493,19 +507,22 @@ def stored_result(root: str | os.PathLike, spec: CaseSpec) -> CaseResult | None:
         return None
     result, recorded = _read(path, root)
     assert recorded is not None  # read with its root
-    differing = [name for name in case_fields() if _identity_value(recorded, name) != _identity_value(spec, name)]
+    if type(recorded) is not type(spec):
+        raise ResultFileError(f"{path} holds a {recorded.track} case, not the {spec.track} case {spec.key}")
+    mine, theirs = identity(spec), identity(recorded)
+    differing = [name for name in mine if mine[name] != theirs.get(name)]
     if differing:
         name = differing[0]
         raise ResultFileError(
-            f"{path} holds {name} {shown(_identity_value(recorded, name))}, "
-            f"not {shown(_identity_value(spec, name))} of the case {spec.key}"
+            f"{path} holds {name} {shown(theirs.get(name))}, not {shown(mine[name])} of the case {spec.key}"
         )
     return result
 
 
-def _identity_value(spec: CaseSpec, name: str) -> Any:
-    value = getattr(spec, name)
-    return to_jsonable(dict(value)) if isinstance(value, Mapping) else value
+def identity(spec: Case) -> dict[str, Any]:
+    """The fields naming ``spec``, as JSON values (what a record must repeat to be its case's)."""
+    names = case_fields() if isinstance(spec, CaseSpec) else spec.identity_fields()
+    return {name: to_jsonable(dict(v) if isinstance(v := getattr(spec, name), Mapping) else v) for name in names}
 
 
 @contextlib.contextmanager
@@ -584,3 +601,25 @@ def _lock(fd: int, root: Path) -> None:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         raise ResultFileError(f"another run is writing to {root}; wait for it or use another --out") from None
+
+
+def _human_case(record: Any, case_config: Mapping[str, Any] | None) -> Case:
+    from ioc_bench.human.case import HumanCaseSpec
+
+    spec = HumanCaseSpec(**{name: getattr(record, name) for name in HumanCaseSpec.identity_fields()})
+    if case_config is not None and to_jsonable(dict(case_config)) != to_jsonable(dict(spec.config)):
+        raise ValueError(f"case_config {shown(dict(case_config))} is not the record's config {shown(spec.config)}")
+    return spec
+
+
+def _human_parse(data: Any) -> Record:
+    from ioc_bench.human.record import parse_record
+
+    return parse_record(data)
+
+
+#: The tracks whose records a results folder may hold, by the ``track`` their JSON names.
+TRACKS: dict[str, Track] = {
+    "synthetic": Track("synthetic", parse_result, recorded_spec),
+    "human": Track("human", _human_parse, _human_case),
+}

@@ -3,10 +3,11 @@
 Everything is checked before any expensive work (:func:`plan_run`): the cases, the
 executor (a Ray cluster must answer), the time limit, the results directory and the
 result files already in it. Then :meth:`RunPlan.run` holds the results directory (a
-lock; temporaries of killed writers removed), prepares the demonstrations, and runs the
-cases on the executor (:mod:`ioc_bench.bench.executor`). The runner alone writes result
-files, atomically, as each case finishes: interrupting the run (Ctrl-C, a killed worker,
-a killed runner) loses no finished case.
+lock; temporaries of killed writers removed), prepares the inputs the cases share
+(demonstrations, reference steps), and runs the cases on the executor
+(:mod:`ioc_bench.bench.executor`). The runner alone writes result files, atomically,
+as each case finishes: interrupting the run (Ctrl-C, a killed worker, a killed runner)
+loses no finished case.
 
 Running the same command again skips every case whose file holds a success. A failed
 case (its algorithm failed, it timed out, its worker died) is recorded and shown, and
@@ -17,12 +18,11 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
-from ioc_bench.bench.case import CaseResult, CaseSpec
-from ioc_bench.bench.demos import DemoRequest, check_cache, demonstration
 from ioc_bench.bench.executor import (
     DEFAULT_TIME_LIMIT,
     Executor,
@@ -31,6 +31,7 @@ from ioc_bench.bench.executor import (
     get_executor,
     schedule,
 )
+from ioc_bench.bench.protocol import Case, Record
 from ioc_bench.bench.results import (
     ResultFileError,
     check_not_held,
@@ -38,13 +39,13 @@ from ioc_bench.bench.results import (
     stored_result,
     write_result,
 )
-from ioc_bench.demo import Demonstration
+from ioc_bench.cache import check_cache
 from ioc_bench.fileio import check_output_dir
 from ioc_bench.ioc.registry import get_algorithm, make_algorithm
 
-OnCase = Callable[[CaseSpec, CaseResult], None]
+OnCase = Callable[[Case, Record], None]
 
-__all__ = ["DEFAULT_TIME_LIMIT", "RunPlan", "RunSummary", "plan_run", "prepare_demonstrations", "run_cases"]
+__all__ = ["DEFAULT_TIME_LIMIT", "RunPlan", "RunSummary", "plan_run", "prepare_inputs", "run_cases"]
 
 
 @dataclass(frozen=True)
@@ -64,21 +65,20 @@ class RunSummary:
 class RunPlan:
     """A checked run, ready to go: see :func:`plan_run`."""
 
-    specs: list[CaseSpec]
+    specs: list[Case]
     out: Path
     executor: Executor
     time_limit: float
     keep_failed: bool
 
-    def pending(self) -> tuple[list[CaseSpec], int]:
+    def pending(self) -> tuple[list[Case], int]:
         """The cases to run now and how many of them are retries of failed ones.
 
         Raises :class:`ResultFileError` if a case's file exists but is not a result
         (it is never overwritten).
         """
         pending, retries = [], 0
-        for spec in self.specs:
-            stored = stored_result(self.out, spec)
+        for spec, stored in self.stored():
             if stored is None:
                 pending.append(spec)
             elif stored.failed and not self.keep_failed:
@@ -86,34 +86,42 @@ class RunPlan:
                 retries += 1
         return pending, retries
 
+    def stored(self) -> list[tuple[Case, Record | None]]:
+        """Every case with the record already stored for it (None if there is none yet)."""
+        return [(spec, stored_result(self.out, spec)) for spec in self.specs]
+
     def run(self, on_case: OnCase | None = None, on_stage: Callable[[str], None] | None = None) -> RunSummary:
         """Run every pending case; ``on_case(spec, result)`` after each is written."""
         t0 = time.perf_counter()
         say = on_stage or (lambda _msg: None)
         failed = [0]
 
-        def finish(spec: CaseSpec, result: CaseResult) -> None:
+        def finish(spec: Case, result: Record) -> None:
             write_result(self.out, spec, result)
+            spec.write_extras(self.out, result)
             failed[0] += result.failed
             if on_case:
                 on_case(spec, result)
 
         with results_directory(self.out):
             pending, retries = self.pending()
+            for spec, stored in self.stored():  # what a run killed between a record and its figures left out
+                if stored is not None:
+                    spec.write_extras(self.out, stored)
             if pending:
-                demos = prepare_demonstrations(pending, say)
+                inputs = prepare_inputs(pending, say)
                 retried = f" ({retries} retried after failing before)" if retries else ""
                 for name in sorted({spec.algorithm for spec in pending}):
                     get_algorithm(name).prepare()  # shared set-up, built once before workers fork
                 say(f"running {len(pending)} case(s){retried}")
-                jobs = [_job(spec, demos) for spec in pending]
+                jobs = [_job(spec, inputs) for spec in pending]
                 schedule(self.executor, jobs, self.time_limit, finish)
         total = len(self.specs)
         return RunSummary(total, total - len(pending), len(pending), failed[0], time.perf_counter() - t0, retries)
 
 
 def plan_run(
-    specs: Sequence[CaseSpec],
+    specs: Sequence[Case],
     out: str | os.PathLike,
     workers: int | None = None,
     time_limit: float = DEFAULT_TIME_LIMIT,
@@ -130,8 +138,8 @@ def plan_run(
     """
     specs = list(specs)
     for spec in specs:
-        if not isinstance(spec, CaseSpec):
-            raise ValueError(f"expected CaseSpec items, got {type(spec).__name__}")
+        if not all(hasattr(spec, name) for name in ("key", "needs", "run", "failure", "track")):
+            raise ValueError(f"expected cases (CaseSpec or HumanCaseSpec items), got {type(spec).__name__}")
         make_algorithm(spec.algorithm, **spec.config)
     plan = RunPlan(
         specs=specs,
@@ -152,7 +160,7 @@ def plan_run(
 
 
 def run_cases(
-    specs: Sequence[CaseSpec],
+    specs: Sequence[Case],
     out: str | os.PathLike,
     workers: int | None = None,
     time_limit: float = DEFAULT_TIME_LIMIT,
@@ -166,20 +174,30 @@ def run_cases(
     return plan_run(specs, out, workers, time_limit, executor, address, keep_failed).run(on_case, on_stage)
 
 
-def prepare_demonstrations(
-    specs: Sequence[CaseSpec], say: Callable[[str], None] | None = None
-) -> dict[DemoRequest, Demonstration]:
-    """The demonstrations of every case, each once: the one it observes (its multi-start seed
-    is the case's seed) and the one its cost is tested at; solved (all cores) or read from
-    the cache."""
-    requests = [r for s in specs for r in s.demo_requests()] + [s.transfer_request() for s in specs]
-    unique = list(dict.fromkeys(r for r in requests if r is not None))
-    if say:
-        say(f"preparing {len(unique)} demonstration(s)")
-    return {request: demonstration(request) for request in unique}
+def run_one(spec: Case, out: str | os.PathLike | None, say: Callable[[str], None] | None = None) -> Record:
+    """One case: with ``out``, run as a suite's case (locked, resumed if already there, its
+    record and extras written atomically; on this machine's cores); without, in this process,
+    writing nothing. ``ValueError`` for bad input, before any solve."""
+    if out is None:
+        inputs = prepare_inputs([spec], say)
+        if say:
+            say(f"running {spec.key}")
+        return spec.run(inputs)
+    plan = plan_run([spec], out, workers=1)
+    plan.run(on_stage=say)
+    stored = stored_result(plan.out, spec)
+    assert stored is not None  # the run wrote it, or it was there
+    return stored
 
 
-def _job(spec: CaseSpec, demos: dict[DemoRequest, Demonstration]) -> Job:
-    first, *others = (demos[r] for r in spec.demo_requests())
-    request = spec.transfer_request()
-    return Job(spec, first, None if request is None else demos[request], tuple(others))
+def prepare_inputs(specs: Sequence[Case], say: Callable[[str], None] | None = None) -> dict[Hashable, Any]:
+    """The inputs of every case, each once (demonstrations, reference steps): read from the
+    cache where its entry is that input's, else solved (all cores)."""
+    unique = list(dict.fromkeys(r for spec in specs for r in spec.needs()))
+    if say and unique:
+        say(f"preparing {len(unique)} input(s) (demonstrations, reference steps)")
+    return {request: request.prepare() for request in unique}
+
+
+def _job(spec: Case, inputs: Mapping[Hashable, Any]) -> Job:
+    return Job(spec, {request: inputs[request] for request in spec.needs()})

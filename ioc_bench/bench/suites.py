@@ -1,6 +1,7 @@
 """Benchmark suites as data: which weight sets, conditions and seeds make up a run.
 
-Add a suite by adding a :class:`Suite` to :data:`SUITES` (or :func:`register_suite`).
+Add a suite by adding a :class:`Suite` to :data:`SUITES` (or :func:`register_suite`). The
+human track's suites (:mod:`ioc_bench.human.suites`) are in :data:`SUITES` too.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from ioc_bench.bench.case import DEFAULT_MODEL, CaseSpec
 from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
+from ioc_bench.human.suites import HUMAN_SUITES, HumanSuite
 from ioc_bench.model.catalogue import COMPASS, get_model
 from ioc_bench.weights import WEIGHT_SETS, parse_weights, weight_sets
 
@@ -39,6 +41,9 @@ class Suite:
         for seed in self.seeds:
             check_seed(seed, f"suite {self.name!r} seed")
 
+    def __len__(self) -> int:
+        return len(self.weight_sets) * len(self.conditions) * len(self.seeds)
+
     def cases(
         self, algorithm: str, config: Mapping[str, Any] | None = None, model: str | None = None
     ) -> list[CaseSpec]:
@@ -60,7 +65,7 @@ MULTI_TRIAL_CONDITIONS = ("multi-speed", "multi-speed-noise")
 #: Every condition on the robustness axes (ideal once), by axis then severity.
 ROBUSTNESS_CONDITIONS = tuple(dict.fromkeys(c.name for axis in AXES for c in axis_conditions(axis)))
 
-SUITES: dict[str, Suite] = {
+SUITES: dict[str, Suite | HumanSuite] = {
     s.name: s
     for s in (
         Suite(
@@ -116,6 +121,14 @@ SUITES: dict[str, Suite] = {
         ),
     )
 }
+
+
+SUITES.update(HUMAN_SUITES)  # the human track's suites run like any suite
+
+
+def is_human(suite: Suite | HumanSuite) -> bool:
+    """Whether ``suite`` is of the human track (its cases read a WBDS folder)."""
+    return isinstance(suite, HumanSuite)
 
 
 def register_suite(suite: Suite) -> Suite:

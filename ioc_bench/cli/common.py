@@ -118,7 +118,7 @@ def input_dir(path: Path, what: str = "results directory") -> Path:
 def check_cache() -> Path:
     """The demonstration cache folder if usable (``$IOC_BENCH_CACHE`` or the default), else
     :class:`UsageError`: checked before the work, not when the first demonstration is saved."""
-    from ioc_bench.bench.demos import check_cache as check
+    from ioc_bench.cache import check_cache as check
 
     with usage_errors():
         return check()

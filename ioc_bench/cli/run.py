@@ -15,9 +15,11 @@ from pathlib import Path
 
 from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
 from ioc_bench.cli.common import (
+    UsageError,
     add_json_flag,
     add_model_arg,
     check_cache,
+    input_dir,
     json_object,
     output_dir,
     path_arg,
@@ -41,16 +43,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--time-limit", type=positive_float, default=DEFAULT_TIME_LIMIT, help=time_help)
     p.add_argument("--keep-failed", action="store_true", help="do not retry cases whose stored result is a failure")
     p.add_argument("--list", action="store_true", help="list the suites (or the one --suite names) and exit")
+    p.add_argument("--data", type=path_arg, default=None, help="a WBDS folder for a human suite (default: shipped)")
     add_model_arg(p, default=None)
     add_json_flag(p)
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.leaderboard import markdown, summarise
+    from ioc_bench.bench.leaderboard import markdown, split_tracks, summarise
     from ioc_bench.bench.results import read_result
     from ioc_bench.bench.runner import plan_run
-    from ioc_bench.bench.suites import SUITES, get_suite
+    from ioc_bench.bench.suites import SUITES, get_suite, is_human
     from ioc_bench.cli.common import progress_bar
 
     if args.list:
@@ -59,7 +62,16 @@ def run(args: argparse.Namespace) -> int:
         return _list_suites(suites, args.json)
     args.suite = args.suite or "smoke"
     with usage_errors():
-        specs = get_suite(args.suite).cases(args.algorithm, args.config, model=args.model)
+        suite = get_suite(args.suite)
+    if args.data is not None and not is_human(suite):
+        raise UsageError(f"--data names a WBDS folder for the human suites; {args.suite} is a synthetic suite")
+    with usage_errors():
+        if is_human(suite):
+            data = None if args.data is None else str(input_dir(args.data, "--data folder"))
+            specs = suite.cases(args.algorithm, args.config, model=args.model, data=data)
+            _check_human_data(specs)
+        else:
+            specs = suite.cases(args.algorithm, args.config, model=args.model)
     output_dir(args.out)
     check_cache()
     with usage_errors():
@@ -75,9 +87,8 @@ def run(args: argparse.Namespace) -> int:
             failures[0] += result.failed
             bar.update(1)
             bar.set_postfix(failures=failures[0])
-            mark = f"FAILED ({result.reason})" if result.failed else f"weight error {result.weight_error:.4f}"
             if not args.json:
-                bar.write(f"  {spec.key}: {mark}, {result.wall_time:.0f} s", file=sys.stderr)
+                bar.write(f"  {spec.key}: {result.headline()}, {result.wall_time:.0f} s", file=sys.stderr)
 
         try:
             summary = plan.run(on_case, say)
@@ -89,7 +100,13 @@ def run(args: argparse.Namespace) -> int:
     with usage_errors():
         results = [read_result(s.path(args.out), args.out) for s in specs if s.path(args.out).is_file()]
     if args.json:
-        print_json({"summary": summary.__dict__, "cells": [c.__dict__ for c in summarise(results)]})
+        synthetic, human = split_tracks(results)
+        report = {"summary": summary.__dict__, "cells": [c.__dict__ for c in summarise(synthetic)]}
+        if human:
+            from ioc_bench.human.summary import summarize
+
+            report["human"] = summarize(human)
+        print_json(report)
     else:
         retried = f" ({summary.retried} of them retried)" if summary.retried else ""
         say(
@@ -104,11 +121,18 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_human_data(specs: list) -> None:
+    """Read and check every WBDS file the cases need, before any solve (``WbdsDataError``, one line)."""
+    for spec in specs:
+        spec.steps()
+        spec.training_steps()
+
+
 def _list_suites(suites: list, as_json: bool) -> int:
     rows = [
         {
             "name": suite.name,
-            "cases": len(suite.weight_sets) * len(suite.conditions) * len(suite.seeds),
+            "cases": len(suite),
             "model": suite.model,
             "description": suite.description,
         }

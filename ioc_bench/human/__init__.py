@@ -3,9 +3,12 @@
 ``wbds`` reads and checks the data set's ASCII layout, ``anthropometry`` builds the
 subject's walker, ``step`` maps a trial to one symmetric step in the walker's units, and
 ``observe`` turns it into an :class:`~ioc_bench.trajectory.Observation` that holds only what
-was measured, and ``track`` (imported on its own: it brings in the solvers) scores an IOC
-estimate by the steps it predicts at the person's other speeds. ``docs/human.md`` says how
-each choice was made and what it costs.
+was measured. The track itself: ``case`` (a case of the benchmark's case protocol: a cost
+inferred at some speeds, its steps predicted at the others), ``scoring`` (the RMSEs, the
+copy baseline, the adaptation and ground-force errors), ``record`` (what a result file
+holds, checked when read), ``summary`` (a run per algorithm and design), ``suites`` (the
+case lists as data) and ``figures``; these bring in the solvers and are imported on their
+own. ``docs/human.md`` says how each choice was made and what it costs.
 """
 
 from ioc_bench.human.anthropometry import BodyLengths, SubjectBody, subject_body, subject_walker

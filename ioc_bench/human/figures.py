@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ioc_bench.human.record import HumanResult
 from ioc_bench.human.step import LEG_SEGMENTS
 from ioc_bench.viz.common import plt, save_figure
 
@@ -43,32 +44,42 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
     return save_figure(fig, path)
 
 
-def plot_human_case(record: Mapping, humans: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
-    """The figure of one human-track case: per speed (training first), the person's leg
+def plot_human_case(record: HumanResult, humans: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
+    """The figure of one human-track case: per scored speed (fits first), the person's leg
     segment angles, the estimated weights' step and the nominal weights' step.
 
-    ``record`` is a case's JSON record (:meth:`ioc_bench.human.track.HumanResult.to_dict`
-    with angles), ``humans`` the person's (T, 4) angles by speed code.
+    ``humans`` holds the person's (T, 4) angles (rad) by speed code. A failed case has no
+    walker steps: its figure shows the person's steps alone.
     """
-    rows = [("fit", record["train"], record.get("fit"))]
-    rows += [("fit", code, score) for code, score in (record.get("also_fit") or {}).items()]
-    rows += [("predicted", code, record.get("predictions", {}).get(code)) for code in record["predict"]]
     panels = []
-    for role, code, score in rows:
-        if code not in humans:
-            continue
-        score = score or {}
-        angles = score.get("angles") or {}
+    for code in humans:
+        score = record.scores.get(code)
         walkers = {}
-        for label, key in (
-            ("estimate", f"{'fit' if role == 'fit' else 'prediction'}_rmse_deg"),
-            ("nominal", "nominal_rmse_deg"),
-        ):
-            if angles.get(label) is not None:
-                walkers[f"{label} ({_deg(score[key])})"] = np.asarray(angles[label])
-        title = f"{record['subject']} {code} {role}\nskill {_num(score.get('skill'))}"
-        panels.append({"title": title, "human": humans[code], "walkers": walkers})
+        if score is not None:
+            for label, rmse in (("estimate", score.rmse_deg), ("nominal", score.nominal_rmse_deg)):
+                if score.angles.get(label) is not None:
+                    walkers[f"{label} ({_deg(rmse)})"] = np.asarray(score.angles[label])
+        role = score.role if score is not None else record.status
+        copy = f", copy {_deg(score.copy_rmse_deg)}" if score is not None and score.copy_from else ""
+        skill = f"skill {_num(score.skill)}{copy}" if score is not None else ""
+        panels.append({"title": f"{record.subject} {code} {role}\n{skill}", "human": humans[code], "walkers": walkers})
     return plot_human_fits(panels, path)
+
+
+def write_case_figures(out: str | os.PathLike, records: Sequence[HumanResult], data: str | None = None) -> list[Path]:
+    """The figure (``.png`` beside its result file) of every case in ``records`` that has none
+    yet in the results folder ``out`` (a run killed between a case's record and its figure
+    leaves it to the next run)."""
+    from ioc_bench.human.case import HumanCaseSpec
+
+    written = []
+    for record in records:
+        spec = HumanCaseSpec(**{f: getattr(record, f) for f in HumanCaseSpec.identity_fields()}, data=data)
+        path = spec.path(out).with_suffix(".png")
+        if not path.is_file():
+            steps = spec.steps()
+            written.append(plot_human_case(record, {c: steps[c].angles for c in spec.scored}, path))
+    return written
 
 
 def _deg(value) -> str:

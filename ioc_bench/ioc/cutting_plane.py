@@ -37,7 +37,7 @@ from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
 from ioc_bench.ioc.cut_region import cut_region
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
-from ioc_bench.ioc.weight_fit import fit_weights, max_margin
+from ioc_bench.ioc.weight_fit import best_separating, fit_weights, max_margin
 from ioc_bench.trajectory import Observation
 from ioc_bench.weights import normalize
 
@@ -78,7 +78,15 @@ class WeightStep(Protocol):
 @dataclass(frozen=True)
 class LogBarrierStep:
     """The paper's weight step: ``max sum log(offset + w . d_i)`` s.t. ``w . d_i > 0``,
-    ``|w| = 1``, ``lower < w < upper`` (raw feature units)."""
+    ``|w| = 1``, ``lower < w < upper`` (raw feature units).
+
+    The paper stops when the step is infeasible. Before the first candidate that would end
+    the method with no answer at all, which is what an observation that is no optimum of
+    the model gives (a person's step: some projected perturbations of it cost less under
+    every weight vector). Then the first candidate is the weights that come nearest to
+    separating every sample (the largest smallest scaled separation,
+    :func:`~ioc_bench.ioc.weight_fit.best_separating`), and the method goes on as printed.
+    """
 
     offset: float = 1.5
     lower: float = 0.001
@@ -86,7 +94,10 @@ class LogBarrierStep:
 
     def fit(self, diffs, previous):
         fit = fit_weights(diffs, "paper", self.offset, self.lower, self.upper, previous)
-        return fit.weights, fit.success
+        if fit.success or previous is not None:
+            return fit.weights, fit.success
+        w = best_separating(diffs, self.lower, self.upper)
+        return w, bool(np.all(np.isfinite(w)))
 
     def relaxed(self, diffs, previous, current):
         return current  # the paper keeps its last candidate

@@ -23,8 +23,9 @@ import numpy as np
 from ioc_bench.trajopt import ipopt
 
 #: Tight tolerances (the separations are small); no bound relaxation (BASE): the centre
-#: objective takes logs of the iterates.
-_OPTIONS = ipopt.options(tol=1e-10, constr_viol_tol=1e-10, max_iter=500)
+#: objective takes logs of the iterates. An iterate outside the paper objective's domain
+#: (``offset + w . d <= 0``) is IPOPT's to step back from, not a warning for the user.
+_OPTIONS = ipopt.options({"show_eval_warnings": False}, tol=1e-10, constr_viol_tol=1e-10, max_iter=500)
 
 
 @dataclass(frozen=True)
@@ -96,6 +97,16 @@ def max_margin(diffs: np.ndarray, lower: float = 0.0, upper: float = 1.0, start:
     Negative when no weights separate every sample; then ``-max_margin`` is how far the
     separations must be relaxed for any weights to exist.
     """
+    return _max_margin(diffs, lower, upper, start)[1]
+
+
+def best_separating(diffs: np.ndarray, lower: float = 0.0, upper: float = 1.0) -> np.ndarray:
+    """The unit weights in ``[lower, upper]`` that achieve :func:`max_margin`: where no weights
+    separate every sample, those under which the worst-separated sample is least cheaper."""
+    return _max_margin(diffs, lower, upper, None)[0]
+
+
+def _max_margin(diffs, lower, upper, start) -> tuple[np.ndarray, float]:
     unit = _unit_rows(np.atleast_2d(np.asarray(diffs, dtype=float)))
     f, n = unit.shape[1], unit.shape[0]
     w, t = ca.SX.sym("w", f), ca.SX.sym("t")
@@ -109,7 +120,8 @@ def max_margin(diffs: np.ndarray, lower: float = 0.0, upper: float = 1.0, start:
         lbg=np.zeros(n + 1),
         ubg=np.append(np.full(n, np.inf), 0.0),
     )
-    return float(np.asarray(sol["x"]).ravel()[-1])
+    x = np.asarray(sol["x"], dtype=float).ravel()
+    return x[:-1] / np.linalg.norm(x[:-1]), float(x[-1])
 
 
 def _unit_rows(diffs: np.ndarray) -> np.ndarray:

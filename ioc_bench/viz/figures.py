@@ -402,14 +402,20 @@ def _fmt_counts(counts: dict[tuple[str, str], int]) -> str:
 
 
 def select_results(results_dir: str | os.PathLike, algorithms: Sequence[str] | None = None) -> list[CaseResult]:
-    """The results of ``results_dir``, restricted to ``algorithms`` (default: all present).
+    """The synthetic track's results of ``results_dir``, restricted to ``algorithms``
+    (default: all present).
 
     Raises ``ValueError`` for a missing or empty directory, an unreadable result file, or a
     requested algorithm that is not in the results (the message lists those present).
     """
-    results = load_results(results_dir)
-    if not results:
+    everything = load_results(results_dir)
+    if not everything:
         raise ValueError(no_results_message(results_dir))
+    results = [r for r in everything if isinstance(r, CaseResult)]  # a human case's figure is beside its file
+    if not results:
+        raise ValueError(
+            f"{results_dir} holds human-track cases only: their figures are beside their result files (.png)"
+        )
     present = sorted({r.algorithm for r in results})
     unknown = [a for a in algorithms or () if a not in present]
     if unknown:

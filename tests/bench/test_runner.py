@@ -117,7 +117,7 @@ def no_demonstrations(monkeypatch):
     def forbidden(_specs):
         raise AssertionError("expensive work started before the input was checked")
 
-    monkeypatch.setattr(runner, "prepare_demonstrations", forbidden)
+    monkeypatch.setattr(runner, "prepare_inputs", forbidden)
 
 
 @pytest.mark.parametrize(

@@ -478,7 +478,7 @@ def no_work(monkeypatch):
 
     from ioc_bench.trajopt.forward_problem import ForwardProblem
 
-    monkeypatch.setattr(runner, "prepare_demonstrations", forbidden)
+    monkeypatch.setattr(runner, "prepare_inputs", forbidden)
     monkeypatch.setattr(ForwardProblem, "solve", forbidden)  # every solve, whoever asks
     monkeypatch.setattr(ForwardProblem, "__init__", forbidden)  # and every build
 

@@ -22,17 +22,11 @@ def test_plot_human_fits_needs_panels(tmp_path) -> None:
 
 
 def test_a_case_figure_shows_every_speed_even_without_a_walker_step(tmp_path) -> None:
-    """A failed case (no fit, no predictions) still draws the person's steps."""
+    """A failed case (no scores) still draws the person's steps."""
+    from ioc_bench.human.case import HumanCaseSpec
     from ioc_bench.human.figures import plot_human_case
 
     humans = {code: load_step("WBDS01", code).angles for code in ("T05", "T04")}
-    record = {"subject": "WBDS01", "train": "T05", "predict": ["T04"], "fit": None, "predictions": {}}
+    record = HumanCaseSpec("WBDS01", "T05", ("T04",), "single-level", also_train=("T06",)).run({})
+    assert record.failed and record.scores == {}
     assert plot_human_case(record, humans, tmp_path / "case.png").read_bytes()[:4] == b"\x89PNG"
-    scored = {
-        "fit_rmse_deg": None,
-        "nominal_rmse_deg": 9.0,
-        "skill": None,
-        "angles": {"estimate": None, "nominal": humans["T05"]},
-    }
-    record["fit"] = scored
-    assert plot_human_case(record, humans, tmp_path / "scored.png").is_file()

@@ -1,0 +1,414 @@
+"""One human-track case: a cost inferred from a person's steps, scored on the steps it predicts.
+
+A :class:`HumanCaseSpec` is the case's identity (subject, training and predicted speeds,
+the training design, algorithm, config, seed, solve options), checked when made. It is a
+case of the benchmark's one case protocol (:mod:`ioc_bench.bench.protocol`): it names its
+result file (:attr:`~HumanCaseSpec.key`), the inputs the runner prepares once for every
+case that shares them (:meth:`~HumanCaseSpec.needs`: the reference steps), and runs in a
+worker (:meth:`~HumanCaseSpec.run`): the fit step every track shares
+(:func:`ioc_bench.ioc.fit.fit`) on the observations of the training steps, then the
+estimate's steps at every speed of the case, scored (:mod:`ioc_bench.human.scoring`).
+
+Training designs: one speed (``train``), several at once (``also_train``: the algorithm
+gets every training step as one multi-trial problem), leave one speed out (three training
+speeds, one predicted), and a population design (``population``: the cost is fitted on
+those other subjects' steps at the training speeds, and every speed of this subject is
+predicted).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import math
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ioc_bench.cache import cache_dir
+from ioc_bench.checks import check_count, check_seed
+from ioc_bench.features import cost_features
+from ioc_bench.fileio import atomic_write_json, read_bytes
+from ioc_bench.human.observe import human_observation
+from ioc_bench.human.record import TRACK, HumanResult, SpeedScore
+from ioc_bench.human.scoring import (
+    NOMINAL,
+    SolvedStep,
+    adaptation_deg,
+    beats,
+    ground_force_error,
+    nearest,
+    rmse_deg,
+    skill_score,
+    solve_step,
+)
+from ioc_bench.human.step import HumanStep, human_step
+from ioc_bench.human.wbds import WbdsData, subject_number, table_speed_code
+from ioc_bench.ioc.fit import Fit, fit
+from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
+from ioc_bench.ioc.registry import canonical_config, check_config, check_name, get_algorithm
+from ioc_bench.model.catalogue import get_model
+from ioc_bench.weights import parse_weights
+
+#: Weight directions also solved at every speed for the floor: the simplex lattice point
+#: that fit 9 of the 12 shipped trials best (``docs/human.md``): (hip, knee, dtau) = (1, 4, 0).
+FLOOR_WEIGHTS: tuple[str, ...] = ("1,4,0",)
+#: Multi-start size of every forward solve (start 0 is the rough periodic guess).
+DEFAULT_STARTS = 3
+#: Most starts a case may ask for.
+MAX_STARTS = 50
+#: The models a human step can be mapped to (the subject's walker is built for them).
+HUMAN_MODELS: tuple[str, ...] = ("walker",)
+#: Revision of the reference steps' cache entries (bump when their solve changes).
+REFERENCE_REVISION = 1
+
+
+@dataclass(frozen=True)
+class HumanCaseSpec:
+    """One case of the human track, checked when made (``ValueError``, one line).
+
+    Attributes:
+        subject: ``WBDSnn``, whose speeds are scored.
+        train: the (first) training speed's code.
+        predict: the predicted speeds' codes (not a training speed, unless ``population``).
+        algorithm: a registered algorithm's name.
+        seed: seed of the algorithm and of every forward multi-start.
+        config: the algorithm's config overrides (stored canonical).
+        starts: multi-start size of every forward solve.
+        floor_weights: extra weight directions solved at every speed for the floor.
+        also_train: further training speeds, all given to the algorithm at once.
+        population: other subjects whose steps at the training speeds are fitted instead
+            of this subject's (then every speed of this subject is predicted).
+        model: the gait model the person's steps are mapped to.
+        data: the WBDS folder (None: the shipped subset). Where the data lie, not what
+            the case is: not part of its identity.
+    """
+
+    subject: str
+    train: str
+    predict: tuple[str, ...]
+    algorithm: str
+    seed: int = 0
+    config: Mapping[str, Any] = field(default_factory=dict)
+    starts: int = DEFAULT_STARTS
+    floor_weights: tuple[str, ...] = FLOOR_WEIGHTS
+    also_train: tuple[str, ...] = ()
+    population: tuple[str, ...] = ()
+    model: str = "walker"
+    data: str | None = field(default=None, compare=False)
+
+    track = TRACK
+
+    def __post_init__(self) -> None:
+        subject_number(self.subject)
+        table_speed_code(self.train)
+        for name in ("predict", "also_train", "population", "floor_weights"):
+            value = getattr(self, name)
+            if isinstance(value, str) or not isinstance(value, Sequence):
+                raise ValueError(f"{name} must be a sequence, got {value!r}")
+            object.__setattr__(self, name, tuple(value))
+        for code in (*self.also_train, *self.predict):
+            table_speed_code(code)
+        for other in self.population:
+            subject_number(other)
+        _distinct("training speed", self.training)
+        _distinct("predicted speed", self.predict)
+        _distinct("population subject", self.population)
+        if self.subject in self.population:
+            raise ValueError(f"{self.subject} is in its own population: a population design fits other subjects")
+        both = [code for code in self.training if code in self.predict]
+        if both and not self.population:
+            raise ValueError(f"the training speed {both[0]} is also a predicted speed")
+        if self.model not in HUMAN_MODELS:
+            raise ValueError(f"human steps map to the models {', '.join(HUMAN_MODELS)}, not {self.model!r}")
+        check_name(self.algorithm)
+        object.__setattr__(self, "seed", check_seed(self.seed))
+        object.__setattr__(self, "starts", check_count(self.starts, "starts", maximum=MAX_STARTS))
+        for text in self.floor_weights:
+            parse_weights(text, self.features)
+        config = check_config(self.config)
+        object.__setattr__(self, "config", canonical_config(self.algorithm, config) if config else {})
+        if self.data is not None and not isinstance(self.data, str):
+            object.__setattr__(self, "data", str(self.data))
+
+    # -- what the case is -----------------------------------------------------------------------
+    @classmethod
+    def identity_fields(cls) -> tuple[str, ...]:
+        """The fields naming a case (a record's must match its file's name)."""
+        return tuple(f.name for f in fields(cls) if f.init and f.compare)
+
+    @property
+    def features(self) -> tuple[str, ...]:
+        return tuple(cost_features(get_model(self.model)))
+
+    @property
+    def training(self) -> tuple[str, ...]:
+        """Every training speed: ``train``, then ``also_train``."""
+        return (self.train, *self.also_train)
+
+    @property
+    def scored(self) -> tuple[str, ...]:
+        """This subject's speeds the case scores: its own training speeds (fits), then the
+        predicted ones; with a population, the predicted ones only."""
+        return self.predict if self.population else (*self.training, *self.predict)
+
+    def role(self, code: str) -> str:
+        return "fit" if code in self.training and not self.population else "prediction"
+
+    @property
+    def design(self) -> str:
+        from ioc_bench.human.record import design_of
+
+        return design_of(len(self.training), len(self.predict), bool(self.population))
+
+    @property
+    def key(self) -> str:
+        """Relative path of the case's result file, without suffix."""
+        name = f"{self.subject}__train-{'+'.join(self.training)}"
+        if self.population:
+            name += f"__from-{'+'.join(self.population)}"
+        name += f"__predict-{'-'.join(self.predict) or 'none'}__seed{self.seed}"
+        if self.model != "walker":
+            name += f"__model-{self.model}"
+        options = {"config": dict(self.config), "starts": self.starts, "floor": list(self.floor_weights)}
+        if options != {"config": {}, "starts": DEFAULT_STARTS, "floor": list(FLOOR_WEIGHTS)}:
+            name += "__cfg" + hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:8]
+        return f"{self.algorithm}/{name}"
+
+    def path(self, root: str | Path) -> Path:
+        return Path(root) / f"{self.key}.json"
+
+    def identity(self) -> dict[str, Any]:
+        return {name: _jsonable(getattr(self, name)) for name in self.identity_fields()}
+
+    # -- the case protocol ----------------------------------------------------------------------
+    def needs(self) -> list[ReferenceStep]:
+        """The reference steps the case scores against (nominal and floor directions at every
+        scored speed and training speed), prepared once by the runner for every case that
+        shares them."""
+        steps = self.steps()
+        return [ReferenceStep(label, steps[code], self.starts, self.seed) for code in steps for label in self.labels]
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        return (NOMINAL, *self.floor_weights)
+
+    def steps(self) -> dict[str, HumanStep]:
+        """This subject's steps at every scored speed and at every training speed (read and
+        checked once: ``WbdsDataError`` names a bad file)."""
+        return self._steps
+
+    @cached_property
+    def _steps(self) -> dict[str, HumanStep]:
+        codes = dict.fromkeys(self.training + self.scored)
+        return {code: human_step(self._data.trial(self.subject, code)) for code in codes}
+
+    def training_steps(self) -> list[HumanStep]:
+        """The steps the algorithm is given: this subject's at the training speeds, or the
+        population's."""
+        if not self.population:
+            steps = self.steps()
+            return [steps[code] for code in self.training]
+        return [human_step(self._data.trial(other, code)) for other in self.population for code in self.training]
+
+    @cached_property
+    def _data(self) -> WbdsData:
+        return WbdsData(self.data)
+
+    def run(self, inputs: Mapping[Any, Any]) -> HumanResult:
+        """Run and score the case (in a worker): ``inputs`` maps :meth:`needs` to their steps."""
+        train = self.training_steps()
+        trials = [IOCProblem(human_observation(s), self.features, s.params, s.task, seed=self.seed) for s in train]
+        outcome = fit(self.algorithm, self.config, trials[0] if len(trials) == 1 else MultiTrialProblem(trials))
+        if outcome.failed:
+            return self._record(outcome, {}, 0.0)
+        t0 = time.perf_counter()
+        weights = _unit(outcome.result.weights)
+        steps = self.steps()
+        estimate = {code: solve_step(weights, steps[code], self.starts, self.seed, "estimate") for code in self.scored}
+        refs = {code: {} for code in steps}
+        for request in self.needs():
+            refs[request.step.speed_code][request.label] = inputs[request]
+        scores = {
+            code: score_speed(code, self.role(code), self._copy_source(code, steps), steps, estimate, refs)
+            for code in self.scored
+        }
+        return self._record(outcome, scores, time.perf_counter() - t0)
+
+    def failure(self, reason: str, config: Mapping[str, Any] | None = None) -> HumanResult:
+        """The record of a case that could not run (it timed out, its worker died)."""
+        return self._record(None, {}, 0.0, reason, dict(config or {}))
+
+    def write_extras(self, root: str | Path, record: HumanResult) -> None:
+        """The case's figure beside its result file (``.png``), if it is not there yet."""
+        from ioc_bench.human.figures import write_case_figures
+
+        write_case_figures(root, [record], self.data)
+
+    # -- scoring ----------------------------------------------------------------------------------
+    def _copy_source(self, code: str, steps: Mapping[str, HumanStep]) -> str:
+        """The training speed whose step the copy baseline copies for ``code`` ("" for a fit,
+        or with a population: this subject's own steps were not trained on)."""
+        if self.population or self.role(code) == "fit":
+            return ""
+        return nearest([steps[c] for c in self.training], steps[code]).speed_code
+
+    def _record(
+        self, outcome: Fit | None, scores: dict, scoring_time: float, reason: str = "", config: dict | None = None
+    ) -> HumanResult:
+        ok = outcome is not None and not outcome.failed
+        n = len(self.features)
+        return HumanResult(
+            **{name: getattr(self, name) for name in self.identity_fields()} | {"config": dict(self.config)},
+            family=_family(self.algorithm),
+            features=self.features,
+            status=outcome.result.status if ok else "failed",
+            reason=outcome.reason if outcome is not None else reason,
+            weights=tuple(_unit(outcome.result.weights)) if ok else (math.nan,) * n,
+            wall_time=outcome.wall_time if outcome else 0.0,
+            n_solves=outcome.n_solves if outcome else 0,
+            scoring_time=scoring_time,
+            scores=scores,
+            notes=dict(outcome.result.notes) if ok else {},
+            oracle=outcome.stats.to_dict() if outcome else {},
+        )
+
+
+def score_speed(
+    code: str,
+    role: str,
+    source: str,
+    steps: Mapping[str, HumanStep],
+    estimate: Mapping[str, SolvedStep],
+    refs: Mapping[str, Mapping[str, SolvedStep]],
+) -> SpeedScore:
+    """The score at speed ``code`` (``role`` ``fit`` or ``prediction``): the estimate's step
+    against the person's ``steps[code]`` and the reference steps ``refs[code]`` (by label,
+    the nominal among them); with a ``source`` training speed, the copy baseline and the
+    adaptation errors from it (``estimate`` and ``refs`` must then hold that speed too)."""
+    person, mine, ref = steps[code], estimate[code], refs[code]
+    nominal = ref[NOMINAL]
+    rmses = {"estimate": mine.rmse_deg(person)} | {label: r.rmse_deg(person) for label, r in ref.items()}
+    finite = {label: v for label, v in rmses.items() if math.isfinite(v)}
+    floor_label = min(finite, key=finite.__getitem__) if finite else ""
+    floor = finite.get(floor_label, math.nan)
+    there = steps[source] if source else None
+    copy = rmse_deg(there.angles, person.angles) if there else math.nan
+    return SpeedScore(
+        speed_code=code,
+        role=role,
+        speed=float(person.task.speed),
+        step_length=float(person.task.step_length),
+        status=mine.status,
+        objective=mine.objective,
+        rmse_deg=rmses["estimate"],
+        nominal_rmse_deg=rmses[NOMINAL],
+        floor_rmse_deg=floor,
+        floor_weights=floor_label,
+        skill=skill_score(rmses["estimate"], rmses[NOMINAL], floor),
+        beats_nominal=beats(rmses["estimate"], rmses[NOMINAL]),
+        copy_from=source,
+        copy_rmse_deg=copy,
+        beats_copy=beats(rmses["estimate"], copy),
+        adaptation_deg=adaptation_deg(mine, estimate[source], person, there) if there else math.nan,
+        copy_adaptation_deg=copy,
+        nominal_adaptation_deg=adaptation_deg(nominal, refs[source][NOMINAL], person, there) if there else math.nan,
+        ground_force_error=ground_force_error(mine, person),
+        nominal_ground_force_error=ground_force_error(nominal, person),
+        solve_time=mine.wall_time,
+        references={label: {"status": r.status, "objective": r.objective, "rmse_deg": rmses[label]}
+                    for label, r in ref.items()},
+        angles={"estimate": _angles(mine), NOMINAL: _angles(nominal)},
+    )  # fmt: skip
+
+
+@dataclass(frozen=True, eq=False)
+class ReferenceStep:
+    """A reference step to prepare: named weights (``nominal`` or a direction) solved at one
+    human step's task. Its result depends on the subject's walker and the task, the weights,
+    the starts and the seed only, so it is solved once and kept in the cache
+    (``<cache>/human-references/<key>.json``, checked against its key when read back)."""
+
+    label: str
+    step: HumanStep
+    starts: int
+    seed: int
+
+    @cached_property
+    def key(self) -> str:
+        payload = {
+            "label": self.label,
+            "params": self.step.params.to_dict(),
+            "task": self.step.task.to_dict(),
+            "knots": self.step.n_knots,
+            "starts": self.starts,
+            "seed": self.seed,
+            "revision": REFERENCE_REVISION,
+        }
+        return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ReferenceStep) and self.key == other.key
+
+    def __hash__(self) -> int:
+        return hash(self.key)
+
+    def prepare(self) -> SolvedStep:
+        """The reference step, from the cache if its entry is this key's, else solved (and kept)."""
+        path = cache_dir() / "human-references" / f"{self.key}.json"
+        stored = _read_reference(path, self.key)
+        if stored is not None:
+            return stored
+        solved = solve_step(self.label, self.step, self.starts, self.seed, self.label)  # a set name or numbers
+        with contextlib.suppress(OSError, ValueError):  # a reference that cannot be kept is only solved again
+            atomic_write_json(path, {"key": self.key, "step": solved.to_dict()})
+        return solved
+
+
+def _read_reference(path: Path, key: str) -> SolvedStep | None:
+    from ioc_bench.checks import load_json
+
+    if not path.is_file():
+        return None
+    try:
+        data = load_json(read_bytes(path, 10_000_000, "reference step").decode())
+        if data.get("key") != key:
+            return None
+        return SolvedStep.from_dict(data["step"])
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return None
+
+
+def _distinct(what: str, values: Sequence[str]) -> None:
+    if len(set(values)) != len(values):
+        raise ValueError(f"a {what} is repeated in {', '.join(values)}")
+
+
+def _unit(weights: Any) -> np.ndarray:
+    w = np.asarray(weights, dtype=float)
+    return w / np.linalg.norm(w)
+
+
+def _angles(step: SolvedStep) -> list | None:
+    return None if step.angles is None else np.round(step.angles, 5).tolist()
+
+
+def _family(algorithm: str) -> str:
+    try:
+        return get_algorithm(algorithm).family
+    except ValueError:
+        return ""
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, tuple):
+        return list(value)
+    if isinstance(value, Mapping):
+        return dict(value)
+    return value

@@ -1,0 +1,287 @@
+"""The record of one human-track case, as its result file holds it, checked when read back.
+
+A record is the case (its identity, :class:`~ioc_bench.human.case.HumanCaseSpec`'s fields),
+what the algorithm returned on the training steps, and one :class:`SpeedScore` per speed
+of the case (the training speeds' fits and the predicted speeds). :func:`parse_record`
+checks everything a file may have been edited into: every field's type, every number's
+range, the identity (a valid case, whose speeds are the scores' speeds), and every number
+that derives from others (the floor is the lowest RMSE solved there, the skill the formula
+of the three RMSEs, the wins the comparisons they name, the estimate of unit norm).
+"""
+
+from __future__ import annotations
+
+import math
+import typing
+from dataclasses import MISSING, asdict, dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from ioc_bench._version import __version__
+from ioc_bench.checks import TypeMismatch, coerce, shown
+from ioc_bench.human.scoring import SKILL_TOL, beats, skill_score
+
+#: The track's name, as result files record it.
+TRACK = "human"
+#: How far a stored derived number may be from what it derives from (float round-trips).
+DERIVED_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class SpeedScore:
+    """The estimate's step at one speed of the case against the person's and the references'.
+
+    Attributes:
+        speed_code: the trial's speed code (``T0n``).
+        role: ``fit`` (a training speed) or ``prediction``.
+        speed, step_length: the trial's task, walker units (the task fixes both, so the
+            walker's step length and cadence are the person's by construction).
+        status: IPOPT's status of the estimate's step.
+        objective: its weighted cost.
+        rmse_deg: leg-segment RMSE of the estimate's step against the person's (NaN if failed).
+        nominal_rmse_deg: the nominal weights' RMSE.
+        floor_rmse_deg: the lowest RMSE of the weights solved for this case here.
+        floor_weights: which weights reached it (``estimate``, ``nominal`` or a direction).
+        skill: :func:`~ioc_bench.human.scoring.skill_score` against that floor.
+        beats_nominal: the estimate's RMSE is below the nominal's (None if either failed).
+        copy_from: the training speed whose step the copy baseline copies ("" for a fit, or
+            when the subject's own steps were not trained on).
+        copy_rmse_deg: the copy baseline's RMSE (NaN without ``copy_from``).
+        beats_copy: the estimate's RMSE is below the copy's (None without one).
+        adaptation_deg: RMSE of the estimate's change of step from ``copy_from`` to here
+            against the person's change.
+        copy_adaptation_deg: the copy's (the person's change itself: it predicts none).
+        nominal_adaptation_deg: the nominal weights' adaptation error.
+        ground_force_error: RMSE (body weights) of the estimate's stance-foot force against
+            the person's two feet together.
+        nominal_ground_force_error: the nominal's.
+        solve_time: seconds of the estimate's solves here.
+        references: label -> ``{"status", "objective", "rmse_deg"}`` of each reference step.
+        angles: ``estimate`` and ``nominal`` -> (T, 4) leg angles (rad), for the case figure.
+    """
+
+    speed_code: str
+    role: str
+    speed: float
+    step_length: float
+    status: str
+    objective: float
+    rmse_deg: float
+    nominal_rmse_deg: float
+    floor_rmse_deg: float
+    floor_weights: str
+    skill: float
+    beats_nominal: bool | None
+    copy_from: str
+    copy_rmse_deg: float
+    beats_copy: bool | None
+    adaptation_deg: float
+    copy_adaptation_deg: float
+    nominal_adaptation_deg: float
+    ground_force_error: float
+    nominal_ground_force_error: float
+    solve_time: float
+    references: dict[str, dict[str, Any]] = field(default_factory=dict)
+    angles: dict[str, list[list[float]] | None] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class HumanResult:
+    """One human-track case's record (what its result file holds).
+
+    The identity fields are :class:`~ioc_bench.human.case.HumanCaseSpec`'s; ``status`` is
+    the algorithm's, or ``failed`` with ``reason`` (then no speed was scored); ``weights``
+    are unit-norm over ``features`` (NaN if failed); ``wall_time`` and ``n_solves`` are the
+    algorithm's, ``scoring_time`` the forward solves' after it; ``scores`` by speed code.
+    """
+
+    subject: str
+    train: str
+    predict: tuple[str, ...]
+    algorithm: str
+    seed: int
+    config: dict[str, Any]
+    starts: int
+    floor_weights: tuple[str, ...]
+    also_train: tuple[str, ...]
+    population: tuple[str, ...]
+    model: str
+    family: str
+    features: tuple[str, ...]
+    status: str
+    reason: str
+    weights: tuple[float, ...]
+    wall_time: float
+    n_solves: int
+    scoring_time: float
+    scores: dict[str, SpeedScore]
+    notes: dict[str, Any] = field(default_factory=dict)
+    oracle: dict[str, Any] = field(default_factory=dict)
+    track: str = TRACK
+    version: str = __version__
+
+    @property
+    def failed(self) -> bool:
+        return self.status == "failed"
+
+    @property
+    def design(self) -> str:
+        """The training design: ``one speed``, ``two speeds``, ``leave one out``, ``population``."""
+        return design_of(len(self.also_train) + 1, len(self.predict), bool(self.population))
+
+    def headline(self) -> str:
+        """The case's outcome in a few words (for progress lines)."""
+        if self.failed:
+            return f"FAILED ({self.reason})"
+        preds = self.predictions()
+        mean = _mean([s.rmse_deg for s in preds])
+        wins = sum(s.beats_nominal is True for s in preds)
+        copies = [s for s in preds if s.copy_from]
+        copy = f", copy {_mean([s.copy_rmse_deg for s in copies]):.1f} deg" if copies else ""
+        return f"predictions {mean:.1f} deg (beat nominal {wins}/{len(preds)}{copy})"
+
+    def fits(self) -> list[SpeedScore]:
+        return [s for s in self.scores.values() if s.role == "fit"]
+
+    def predictions(self) -> list[SpeedScore]:
+        return [s for s in self.scores.values() if s.role == "prediction"]
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def _mean(values: list[float]) -> float:
+    kept = [v for v in values if math.isfinite(v)]
+    return float(np.mean(kept)) if kept else math.nan
+
+
+def design_of(n_training: int, n_predicted: int, population: bool) -> str:
+    """The name of a training design (see :attr:`HumanResult.design`)."""
+    if population:
+        return "population"
+    if n_training == 1:
+        return "one speed"
+    if n_training == 2:
+        return "two speeds"
+    return "leave one out" if n_predicted == 1 else f"{n_training} speeds"
+
+
+# -- reading back ----------------------------------------------------------------------------------
+
+
+def parse_record(data: Any) -> HumanResult:
+    """A :class:`HumanResult` from decoded JSON; ``ValueError`` naming the first problem."""
+    values = _typed(HumanResult, data, "record", extra={"case_key", "case_config"})
+    if values.get("track") != TRACK:
+        raise ValueError(f"track must be {TRACK!r}, got {shown(values.get('track'))}")
+    scores = values["scores"]
+    values["scores"] = {code: SpeedScore(**_typed(SpeedScore, s, f"scores[{code}]")) for code, s in scores.items()}
+    record = HumanResult(**values)
+    check_record(record)
+    return record
+
+
+def _typed(cls: type, data: Any, what: str, extra: set[str] = frozenset()) -> dict[str, Any]:
+    if not isinstance(data, dict):
+        raise ValueError(f"{what} must be a JSON object, got {type(data).__name__}")
+    hints = typing.get_type_hints(cls)
+    required = [f.name for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING]
+    missing = [k for k in required if k not in data]
+    if missing:
+        raise ValueError(f"{what} misses field(s) {', '.join(missing)}")
+    unknown = [k for k in data if k not in hints and k not in extra]
+    if unknown:
+        raise ValueError(f"{what} has unknown field(s) {', '.join(shown(k) for k in unknown[:5])}")
+    out = {}
+    for key, value in data.items():
+        if key not in hints:
+            continue
+        hint = hints[key]
+        if key == "scores":
+            hint = dict[str, Any]
+        try:
+            out[key] = coerce(value, hint, nonfinite=True, max_int=None)
+        except TypeMismatch as exc:
+            raise ValueError(f"{what}.{key} must be {exc}, got {shown(value)}") from None
+    return out
+
+
+def check_record(record: HumanResult) -> None:
+    """``ValueError`` naming the first value of ``record`` out of range or inconsistent."""
+    from ioc_bench.human.case import HumanCaseSpec
+
+    identity = {f: getattr(record, f) for f in HumanCaseSpec.identity_fields()}
+    spec = HumanCaseSpec(**identity)  # a valid case: subject, speeds, algorithm, config, options
+    if tuple(record.features) != spec.features:
+        raise ValueError(f"features {list(record.features)} are not the model's {list(spec.features)}")
+    _check_weights(record)
+    for name in ("wall_time", "scoring_time"):
+        _non_negative(name, getattr(record, name), nan=False)
+    if not 0 <= record.n_solves <= 10**9:
+        raise ValueError(f"n_solves must be between 0 and 10**9, got {shown(record.n_solves)}")
+    expected = {} if record.failed else {code: spec.role(code) for code in spec.scored}
+    if {c: s.role for c, s in record.scores.items()} != expected:
+        raise ValueError(f"scores must be the case's speeds with their roles {expected}, got {sorted(record.scores)}")
+    for code, score in record.scores.items():
+        if score.speed_code != code:
+            raise ValueError(f"scores[{code}] is the score of {shown(score.speed_code)}")
+        _check_score(score)
+
+
+def _check_weights(record: HumanResult) -> None:
+    w = np.array(record.weights, dtype=float)
+    if len(w) != len(record.features):
+        raise ValueError(f"weights has {len(w)} entries for {len(record.features)} features")
+    if record.failed:
+        if not np.all(np.isnan(w)):
+            raise ValueError("a failed case has no weights (NaN)")
+        return
+    if not np.all(np.isfinite(w)) or np.any(w < 0) or abs(np.linalg.norm(w) - 1) > 1e-6:
+        raise ValueError(f"weights must be finite, non-negative and of unit norm, got {shown(list(record.weights))}")
+
+
+def _non_negative(name: str, value: float, nan: bool = True) -> None:
+    if (nan and math.isnan(value)) or 0 <= value < math.inf:
+        return
+    raise ValueError(f"{name} must be a non-negative number{' or null' if nan else ''}, got {shown(value)}")
+
+
+def _check_score(s: SpeedScore) -> None:
+    where = f"scores[{s.speed_code}]"
+    for name in ("rmse_deg", "nominal_rmse_deg", "floor_rmse_deg", "copy_rmse_deg", "adaptation_deg",
+                 "copy_adaptation_deg", "nominal_adaptation_deg", "ground_force_error",
+                 "nominal_ground_force_error"):  # fmt: skip
+        _non_negative(f"{where}.{name}", getattr(s, name))
+    _non_negative(f"{where}.solve_time", s.solve_time, nan=False)
+    if not (0 < s.speed < math.inf and 0 < s.step_length < math.inf):
+        raise ValueError(f"{where}: speed and step_length must be positive, got {s.speed}, {s.step_length}")
+    refs = [r.get("rmse_deg") for r in s.references.values()]
+    tried = [x for x in [s.rmse_deg, s.nominal_rmse_deg, *refs] if isinstance(x, (int, float)) and math.isfinite(x)]
+    if tried and not math.isclose(s.floor_rmse_deg, min(tried), rel_tol=0, abs_tol=DERIVED_TOLERANCE):
+        raise ValueError(f"{where}.floor_rmse_deg {shown(s.floor_rmse_deg)} is not the lowest RMSE solved there")
+    _same(f"{where}.skill", s.skill, _skill(s))
+    _same(f"{where}.beats_nominal", s.beats_nominal, beats(s.rmse_deg, s.nominal_rmse_deg))
+    copy = s.copy_rmse_deg if s.copy_from else math.nan
+    if not s.copy_from and not all(math.isnan(getattr(s, k)) for k in ("copy_rmse_deg", "adaptation_deg")):
+        raise ValueError(f"{where}: a copy baseline and an adaptation error need copy_from")
+    _same(f"{where}.beats_copy", s.beats_copy, beats(s.rmse_deg, copy))
+    _same(f"{where}.copy_adaptation_deg", s.copy_adaptation_deg, copy)  # both are the person's change
+
+
+def _skill(s: SpeedScore) -> float:
+    try:
+        return skill_score(s.rmse_deg, s.nominal_rmse_deg, s.floor_rmse_deg)
+    except ValueError:
+        return math.nan
+
+
+def _same(name: str, stored: Any, derived: Any) -> None:
+    if isinstance(derived, float) and math.isnan(derived):
+        ok = isinstance(stored, float) and math.isnan(stored)
+    elif isinstance(derived, float):
+        ok = isinstance(stored, float) and abs(stored - derived) <= max(SKILL_TOL, DERIVED_TOLERANCE * abs(derived))
+    else:
+        ok = stored is derived
+    if not ok:
+        raise ValueError(f"{name} is {shown(stored)}, but its RMSEs give {shown(derived)}")

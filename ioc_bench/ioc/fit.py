@@ -1,0 +1,78 @@
+"""The fit step every track runs: an algorithm on a problem, its answer checked at the boundary.
+
+Synthetic and human cases alike make the algorithm, hand it the problem, time it, count
+its forward solves, and check what it returned against the plugin contract
+(:mod:`ioc_bench.ioc.contract`). Whatever goes wrong (the algorithm raises, returns
+something the contract refuses, or is given several trials it cannot take) becomes a
+:class:`Fit` with a reason, never an exception: a failed fit is a recorded result.
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ioc_bench.ioc.algorithm import IOCResult
+from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.oracle import OracleStats
+from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProblem
+from ioc_bench.ioc.registry import make_algorithm
+
+
+@dataclass(frozen=True, eq=False)
+class Fit:
+    """What one fit gave: the algorithm's checked answer, or why there is none.
+
+    Attributes:
+        result: the answer, if the contract accepted it (None otherwise).
+        reason: why the fit failed ("" if it did not).
+        wall_time: seconds the algorithm ran, plus those of stored references it reused
+            (computed by an earlier case), so a case's time does not depend on what ran before.
+        stats: the problem's oracle counts when the algorithm stopped (before any scoring).
+        config: the algorithm's effective config.
+    """
+
+    result: IOCResult | None
+    reason: str
+    wall_time: float
+    stats: OracleStats
+    config: dict[str, Any]
+
+    @property
+    def failed(self) -> bool:
+        return self.result is None
+
+    @property
+    def n_solves(self) -> int:
+        return self.stats.forward_solves
+
+
+def fit(algorithm: str, config: Mapping[str, Any], problem: IOCProblem | MultiTrialProblem) -> Fit:
+    """Run ``algorithm`` (a registered name, with ``config`` overrides) on ``problem``.
+
+    Raises:
+        ValueError: an unknown algorithm or a bad config (bad input, before any work); the
+            algorithm's own faults are a failed :class:`Fit`.
+    """
+    algo = make_algorithm(algorithm, **dict(config))
+    settings = algo.config_dict()
+    if len(problem.trials) > 1 and not algo.multi_trial:
+        reason = f"{algorithm} does not handle several trials (its multi_trial is False)"
+        return Fit(None, reason, 0.0, problem.stats.copy(), settings)
+    t0 = time.perf_counter()
+    try:
+        result = algo.fit(problem)
+    except Exception as exc:  # the algorithm's fault is a recorded result, not a crash
+        last = traceback.extract_tb(exc.__traceback__)[-1]
+        reason = f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})"
+        return Fit(None, reason, _elapsed(problem, t0), problem.stats.copy(), settings)
+    wall = _elapsed(problem, t0)
+    reason = check_result(result, problem.n_features)
+    return Fit(None if reason else result, reason, wall, problem.stats.copy(), settings)
+
+
+def _elapsed(problem: IOCProblem | MultiTrialProblem, t0: float) -> float:
+    return time.perf_counter() - t0 + problem.stats.seconds[REUSED_REFERENCE]
