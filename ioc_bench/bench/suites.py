@@ -13,7 +13,7 @@ from ioc_bench.bench.case import DEFAULT_MODEL, CaseSpec
 from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
-from ioc_bench.model.catalogue import COMPASS, get_model
+from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET, get_model
 from ioc_bench.weights import WEIGHT_SETS, parse_weights, weight_sets
 
 
@@ -107,6 +107,20 @@ SUITES: dict[str, Suite] = {
             weight_sets=tuple(weight_sets(cost_features(COMPASS))),
             conditions=PAPER_CONDITIONS,
             model=COMPASS.name,
+        ),
+        Suite(
+            "rolling-feet-smoke",
+            "the walker with rolling feet and a free knee: a quick check, two weight sets, ideal and noisy",
+            weight_sets=("nominal", "penalize-knee"),
+            conditions=("ideal", "noise"),
+            model=ROLLING_FEET.name,
+        ),
+        Suite(
+            "rolling-feet-paper",
+            "the paper's study on the walker with rolling feet and a free knee: 4 weight sets x the paper's conditions",
+            weight_sets=tuple(weight_sets(cost_features(ROLLING_FEET))),
+            conditions=PAPER_CONDITIONS,
+            model=ROLLING_FEET.name,
         ),
         Suite(
             "robustness",

@@ -82,7 +82,8 @@ REFERENCE_BODY = {"thigh": 0.405, "shank": 0.41, "ankle_height": 0.075, "foot": 
 #: Rolling radius of a foot over the leg length: roll-over shapes of people walking are
 #: arcs of about 0.3 leg lengths (Hansen, Childress & Knox 2004, J Biomech 37:1467).
 ROLL_RADIUS = 0.3
-#: Ankle range (dorsiflexion positive... see :func:`footed_linkage`), rad.
+#: Ankle range (foot angle minus shank angle; positive lifts the toe... with the walker's
+#: sign of angles, negative lifts the toe), rad.
 ANKLE_RANGE = (-0.6, 0.6)
 
 
@@ -104,7 +105,7 @@ class FootedParams:
     thigh: SegmentParams = field(default_factory=lambda: _reference().thigh)
     shank: SegmentParams = field(default_factory=lambda: _reference().shank)
     foot: FootParams = field(default_factory=lambda: _reference().foot)
-    feet: str = "ankle"
+    feet: str = "roll"
     knee: str = "free"
     roll_radius: float = ROLL_RADIUS
     friction: float = 1.0
@@ -182,7 +183,7 @@ def footed_params(
     ankle_height: float,
     foot: float,
     height: float,
-    feet: str = "ankle",
+    feet: str = "roll",
     knee: str = "free",
 ) -> FootedParams:
     """A walker with feet for a body of these lengths (metres), in walker units (leg 1, mass 1).
@@ -355,3 +356,7 @@ def footed_model(name: str, params: FootedParams) -> GaitModel:
         actuator_groups=groups,
         guess_angles=_guess_angles,
     )
+
+
+#: The catalogue's walker with feet: rolling feet and a free knee (``docs/feet.md`` says why).
+ROLLING_FEET = footed_model("rolling-feet", FootedParams())
