@@ -262,10 +262,22 @@ def table(path: Path) -> str:
     return "\n".join(lines)
 
 
+def _measure(trial, labels, out) -> None:
+    """Every chosen candidate on one trial, a JSON line each."""
+    step = human_step(trial)
+    for label, feet, knee in CANDIDATES:
+        if label in labels:
+            row = measure_trial(label, feet, knee, step, trial)
+            print(json.dumps({k: v for k, v in row.items() if k != "directions"}), flush=True)
+            out.write(json.dumps(row) + "\n")
+            out.flush()
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", type=Path, default=Path("docs/data/feet_floor.jsonl"))
     ap.add_argument("--models", default=",".join(c[0] for c in CANDIDATES))
+    ap.add_argument("--trials", default="", help="SUBJECT:CODE,... to measure (default: every shipped trial)")
     ap.add_argument("--timing", action="store_true", help="time cold solves instead of measuring fits")
     ap.add_argument("--table", action="store_true", help="only print the tables of the results in --out")
     args = ap.parse_args()
@@ -278,16 +290,10 @@ def main() -> None:
                     f.write(json.dumps(row) + "\n")
             else:
                 data = WbdsData()
-                for subject in data.subjects:
-                    for code in data.speeds(subject):
-                        trial = data.trial(subject, code)
-                        step = human_step(trial)
-                        for label, feet, knee in CANDIDATES:
-                            if label in labels:
-                                row = measure_trial(label, feet, knee, step, trial)
-                                print(json.dumps({k: v for k, v in row.items() if k != "directions"}), flush=True)
-                                f.write(json.dumps(row) + "\n")
-                                f.flush()
+                every = [(sub, code) for sub in data.subjects() for code in data.speeds(sub)]
+                chosen = [tuple(t.split(":")) for t in args.trials.split(",")] if args.trials else every
+                for subject, code in chosen:
+                    _measure(data.trial(subject, code), labels, f)
     print(table(args.out))
 
 
