@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 
 from ioc_bench.model.gait_model import GaitModel
-from ioc_bench.model.linkage import Linkage, point_position
+from ioc_bench.model.linkage import Linkage, ground_gap
 from ioc_bench.model.walker import WALKER
 from ioc_bench.trajectory import Observation
 
@@ -130,6 +130,7 @@ FEATURES: dict[str, Feature] = {
     for f in (
         _effort("hip", "hip"),
         _effort("knee", "knee"),
+        _effort("ankle", "ankle"),
         Feature(
             "dtau",
             "mean squared torque rate: 0.001 sum_t sum_j ((tau_j,t+1 - tau_j,t) / dT)^2 dT / step duration",
@@ -158,16 +159,21 @@ COST_FEATURES: tuple[str, ...] = ("hip", "knee", "dtau")
 DISTRACTORS: tuple[str, ...] = ("torso", "steplen", "footheight")
 #: The walker's features: what the benchmark's optimizer and IOC weigh.
 ALL_FEATURES: tuple[str, ...] = COST_FEATURES + DISTRACTORS
+#: Every model's effort features in weight order: the walker's with the ankle torque
+#: (a model with ankles) before the torque rate.
+EFFORT_FEATURES: tuple[str, ...] = ("hip", "knee", "ankle", "dtau")
+#: Every feature of any model, in the order a model's features take.
+MODEL_FEATURES: tuple[str, ...] = EFFORT_FEATURES + DISTRACTORS
 
 
 def model_features(model: GaitModel) -> tuple[str, ...]:
     """The features a model has (those whose actuator group it lacks are left out)."""
-    return tuple(n for n in ALL_FEATURES if FEATURES[n].requires in (None, *model.actuator_groups))
+    return tuple(n for n in MODEL_FEATURES if FEATURES[n].requires in (None, *model.actuator_groups))
 
 
 def cost_features(model: GaitModel) -> tuple[str, ...]:
-    """The effort features a model's demonstrations are made with (its :data:`COST_FEATURES`)."""
-    return tuple(n for n in model_features(model) if n in COST_FEATURES)
+    """The effort features a model's demonstrations are made with (its :data:`EFFORT_FEATURES`)."""
+    return tuple(n for n in model_features(model) if n in EFFORT_FEATURES)
 
 
 def check_names(names: Sequence[str]) -> tuple[str, ...]:
@@ -189,7 +195,7 @@ def step_inputs(model: GaitModel, linkage: Linkage, dt: Sequence[Any], q: Any, t
     roles = model.roles
     i_foot, i_torso = linkage.index(roles.swing_foot[0]), linkage.index(roles.torso)
     segment = linkage.segments[i_foot]
-    foot = [point_position(segment, roles.swing_foot[1], q[k][i_foot]) for k in range(len(dt))]
+    foot = [ground_gap(segment, roles.swing_foot[1], q[k][i_foot]) for k in range(len(dt))]
     actuators = [j.name for j in linkage.actuated]
     return FeatureInputs(
         dt=list(dt),

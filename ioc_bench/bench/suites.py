@@ -15,7 +15,7 @@ from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, loo
 from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.human.suites import HUMAN_SUITES, HumanSuite
-from ioc_bench.model.catalogue import COMPASS, get_model
+from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET, get_model
 from ioc_bench.weights import WEIGHT_SETS, parse_weights, weight_sets
 
 
@@ -112,6 +112,20 @@ SUITES: dict[str, Suite | HumanSuite] = {
             weight_sets=tuple(weight_sets(cost_features(COMPASS))),
             conditions=PAPER_CONDITIONS,
             model=COMPASS.name,
+        ),
+        Suite(
+            "rolling-feet-smoke",
+            "the walker with rolling feet and a free knee: a quick check, two weight sets, ideal and noisy",
+            weight_sets=("nominal", "penalize-knee"),
+            conditions=("ideal", "noise"),
+            model=ROLLING_FEET.name,
+        ),
+        Suite(
+            "rolling-feet-paper",
+            "the paper's study on the walker with rolling feet and a free knee: 4 weight sets x the paper's conditions",
+            weight_sets=tuple(weight_sets(cost_features(ROLLING_FEET))),
+            conditions=PAPER_CONDITIONS,
+            model=ROLLING_FEET.name,
         ),
         Suite(
             "robustness",

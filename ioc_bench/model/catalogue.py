@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from ioc_bench.model.compass import COMPASS
+from ioc_bench.model.feet import ROLLING_FEET
 from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.model.walker import WALKER
 
-MODELS: dict[str, GaitModel] = {m.name: m for m in (WALKER, COMPASS)}
+MODELS: dict[str, GaitModel] = {m.name: m for m in (WALKER, COMPASS, ROLLING_FEET)}
 
 
 def get_model(name: str) -> GaitModel:

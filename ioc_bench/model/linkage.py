@@ -4,6 +4,10 @@ This is the description the trajectory optimizer transcribes (the paper's segmen
 formulation): each segment has its own planar state, each pin its own constraint force.
 A different planar linkage (say, with ankles) is a new :class:`Linkage`, not new code.
 
+A point may carry a rolling arc (:attr:`Segment.rolls`): the point is the arc's centre and
+a pin from it to the world rolls the arc on the ground without slipping instead of holding
+the point (a foot that rolls). With no arcs every expression is that of plain pins.
+
 Conventions (shared with the MuJoCo model): x forward, z up. A segment's angle ``theta``
 is its rotation about +y, so its axis ``u = (sin theta, cos theta)`` leans forward for
 positive theta. A joint's angle is ``theta_child - theta_parent``; a joint torque acts
@@ -17,7 +21,7 @@ swaps them for a parameter vector so one compiled NLP serves every model variant
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import casadi as ca
@@ -36,12 +40,15 @@ class Segment:
         points: named points as (along, across) offsets from the centre of mass, in the
             segment frame: ``along`` follows the axis ``u``, ``across`` follows
             ``n = (cos theta, -sin theta)``.
+        rolls: radius of the rolling arc centred at some of the points (a foot that rolls);
+            a world pin to such a point rolls (see :func:`ground_gap`).
     """
 
     name: str
     mass: Any
     inertia: Any
     points: Mapping[str, Point]
+    rolls: Mapping[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -65,7 +72,10 @@ class Joint:
 
     Attributes:
         actuated: a torque actuator drives this joint.
-        lock: a passive unilateral lock at angle 0 keeps the angle >= 0 (the knee-lock).
+        lock: a passive unilateral lock at angle 0 keeps the angle >= 0 (the knee-lock); its
+            range is ``[0, lock_range]`` (the model parameters' ``lock_range``).
+        range: ``(low, high)`` angle limits of a joint without a lock (a hard limit that
+            the actuator, not a passive element, must respect); None: unlimited.
     """
 
     name: str
@@ -73,6 +83,7 @@ class Joint:
     child: str
     actuated: bool = True
     lock: bool = False
+    range: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -96,6 +107,12 @@ class Linkage:
             for seg in (joint.parent, joint.child):
                 if seg not in names:
                     raise ValueError(f"joint {joint.name!r} names unknown segment {seg!r}")
+            if joint.range is not None and (joint.lock or not joint.range[0] < joint.range[1]):
+                raise ValueError(f"joint {joint.name!r}: a range needs low < high and no lock, got {joint.range}")
+        for seg in self.segments:
+            unknown = set(seg.rolls) - set(seg.points)
+            if unknown:
+                raise ValueError(f"segment {seg.name!r}: rolling arcs at unknown points {sorted(unknown)}")
 
     def _check_point(self, segment: str, point: Any, where: str) -> None:
         seg = self.segment(segment)
@@ -122,6 +139,11 @@ class Linkage:
     def locked(self) -> tuple[Joint, ...]:
         return tuple(j for j in self.joints if j.lock)
 
+    @property
+    def limited(self) -> tuple[Joint, ...]:
+        """Joints with a hard range and no lock."""
+        return tuple(j for j in self.joints if j.range is not None)
+
     # -- parameters -------------------------------------------------------------------
     def parameter_vector(self) -> list[Any]:
         """Every numeric value of the linkage, in a fixed order (see :meth:`with_parameters`)."""
@@ -130,6 +152,7 @@ class Linkage:
             values += [seg.mass, seg.inertia]
             for along, across in seg.points.values():
                 values += [along, across]
+            values += list(seg.rolls.values())
         return values
 
     def with_parameters(self, values: Sequence[Any]) -> Linkage:
@@ -140,7 +163,8 @@ class Linkage:
         for seg in self.segments:
             mass, inertia = next(it), next(it)
             points = {name: (next(it), next(it)) for name in seg.points}
-            segments.append(replace(seg, mass=mass, inertia=inertia, points=points))
+            rolls = {name: next(it) for name in seg.rolls}
+            segments.append(replace(seg, mass=mass, inertia=inertia, points=points, rolls=rolls))
         return replace(self, segments=tuple(segments), gravity=gravity)
 
 
@@ -185,7 +209,8 @@ def pin_wrenches(linkage: Linkage, q: Sequence[Sequence[Any]], forces: Sequence[
             if seg_name is None:
                 continue
             i = linkage.index(seg_name)
-            r = point_offset(linkage.segments[i], point, q[i][2])
+            offset = contact_offset if pin.b is None else point_offset
+            r = offset(linkage.segments[i], point, q[i][2])
             wrench[i][0] += sign * f[0]
             wrench[i][1] += sign * f[1]
             wrench[i][2] += sign * moment(r, f)
@@ -224,11 +249,55 @@ def joint_angle(linkage: Linkage, joint: Joint, theta: Sequence[Any]) -> Any:
     return theta[linkage.index(joint.child)] - theta[linkage.index(joint.parent)]
 
 
+def contact_offset(segment: Segment, point: str, theta: Any) -> Point:
+    """World-frame vector from the centre of mass to where ``point`` meets the ground: the
+    point itself, or the bottom of its rolling arc."""
+    rx, rz = point_offset(segment, point, theta)
+    if point not in segment.rolls:
+        return rx, rz
+    return rx, rz - segment.rolls[point]
+
+
+def ground_gap(segment: Segment, point: str, q: Sequence[Any]) -> Point:
+    """Where ``point`` stands against the ground: its position, or for a rolling arc the
+    arc's *anchor*, ``(x_c - R theta, z_c - R)`` with ``(x_c, z_c)`` its centre.
+
+    Rolling without slip moves the arc's centre ``R`` forward per radian of rotation, so
+    the anchor stays put while the arc rolls on the ground, and its height is the arc's
+    lowest point above the ground. A world pin holds the anchor.
+    """
+    cx, cz = point_position(segment, point, q)
+    if point not in segment.rolls:
+        return cx, cz
+    radius = segment.rolls[point]
+    return cx - radius * q[2], cz - radius
+
+
+def ground_gap_rate(segment: Segment, point: str, q: Sequence[Any], v: Sequence[Any]) -> Point:
+    """Time derivative of :func:`ground_gap` (the rolling arc's slip and lift rates)."""
+    vx, vz = point_velocity(segment, point, q, v)
+    if point not in segment.rolls:
+        return vx, vz
+    return vx - segment.rolls[point] * v[2], vz
+
+
+def ground_gap_acceleration(
+    segment: Segment, point: str, q: Sequence[Any], v: Sequence[Any], a: Sequence[Any]
+) -> Point:
+    """Second time derivative of :func:`ground_gap`."""
+    ax, az = point_acceleration(segment, point, q, v, a)
+    if point not in segment.rolls:
+        return ax, az
+    return ax - segment.rolls[point] * a[2], az
+
+
 def pin_gap(linkage: Linkage, pin: Pin, q: Sequence[Sequence[Any]]) -> Point:
-    """Position of the pin's ``a`` point minus that of its ``b`` point (zero when joined)."""
-    pa = point_position(linkage.segment(pin.a), pin.a_point, q[linkage.index(pin.a)])
+    """Position of the pin's ``a`` point minus that of its ``b`` point (zero when joined);
+    a world pin holds :func:`ground_gap` (the point, or a rolling arc's anchor)."""
     if pin.b is None:
+        pa = ground_gap(linkage.segment(pin.a), pin.a_point, q[linkage.index(pin.a)])
         return pa[0] - pin.b_point[0], pa[1] - pin.b_point[1]
+    pa = point_position(linkage.segment(pin.a), pin.a_point, q[linkage.index(pin.a)])
     pb = point_position(linkage.segment(pin.b), pin.b_point, q[linkage.index(pin.b)])
     return pa[0] - pb[0], pa[1] - pb[1]
 
@@ -236,9 +305,9 @@ def pin_gap(linkage: Linkage, pin: Pin, q: Sequence[Sequence[Any]]) -> Point:
 def pin_gap_rate(linkage: Linkage, pin: Pin, q: Sequence[Sequence[Any]], v: Sequence[Sequence[Any]]) -> Point:
     """Time derivative of :func:`pin_gap`."""
     ia = linkage.index(pin.a)
-    va = point_velocity(linkage.segment(pin.a), pin.a_point, q[ia], v[ia])
     if pin.b is None:
-        return va
+        return ground_gap_rate(linkage.segment(pin.a), pin.a_point, q[ia], v[ia])
+    va = point_velocity(linkage.segment(pin.a), pin.a_point, q[ia], v[ia])
     ib = linkage.index(pin.b)
     vb = point_velocity(linkage.segment(pin.b), pin.b_point, q[ib], v[ib])
     return va[0] - vb[0], va[1] - vb[1]
@@ -254,8 +323,10 @@ def place(linkage: Linkage, theta: Sequence[float]) -> list[list[float]]:
     for pin in linkage.pins:
         if pin.b is None:
             i = linkage.index(pin.a)
-            rx, rz = point_offset(linkage.segments[i], pin.a_point, theta[i])
-            q[i] = [pin.b_point[0] - rx, pin.b_point[1] - rz, theta[i]]
+            seg = linkage.segments[i]
+            rx, rz = point_offset(seg, pin.a_point, theta[i])
+            radius = seg.rolls.get(pin.a_point, 0.0)  # a rolling arc's centre: anchor + (R theta, R)
+            q[i] = [pin.b_point[0] + radius * theta[i] - rx, pin.b_point[1] + radius - rz, theta[i]]
     while len(q) < len(linkage.segments):
         progress = False
         for pin in linkage.pins:
@@ -289,9 +360,9 @@ def pin_gap_acceleration(
 ) -> Point:
     """Second time derivative of :func:`pin_gap`."""
     ia = linkage.index(pin.a)
-    aa = point_acceleration(linkage.segment(pin.a), pin.a_point, q[ia], v[ia], a[ia])
     if pin.b is None:
-        return aa
+        return ground_gap_acceleration(linkage.segment(pin.a), pin.a_point, q[ia], v[ia], a[ia])
+    aa = point_acceleration(linkage.segment(pin.a), pin.a_point, q[ia], v[ia], a[ia])
     ib = linkage.index(pin.b)
     ab = point_acceleration(linkage.segment(pin.b), pin.b_point, q[ib], v[ib], a[ib])
     return aa[0] - ab[0], aa[1] - ab[1]

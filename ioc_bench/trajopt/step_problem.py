@@ -42,14 +42,14 @@ from ioc_bench.model.linkage import (
     Linkage,
     Pin,
     accelerations,
+    ground_gap,
+    ground_gap_rate,
     joint_angle,
     joint_moments,
     pin_gap,
     pin_gap_acceleration,
     pin_gap_rate,
     pin_wrenches,
-    point_position,
-    point_velocity,
 )
 from ioc_bench.trajopt.layout import Constraints, Layout
 from ioc_bench.trajopt.transcription import HermiteSimpson
@@ -84,6 +84,7 @@ PHYSICAL_BOUNDS = frozenset(
         "trail_friction",
         "swing_clearance",
         "knee_range",
+        "joint_range",
         "bound:force:zero",
         "bound:impulse:zero",
         "bound:tau:lower",
@@ -268,6 +269,7 @@ class StepProblem:
         self._pins(g, link, var, acc)
         self._ground(g, link, var, prm, step)
         g.add("knee_range", [e for f in flex.ravel() for e in (f, prm["lock_range"][0] - f)], 0.0, ca.inf)
+        self._joint_ranges(g, link, var["q"][:, :, 2])
         self._impact(g, link, var, prm, step)
         g.add("step_length", [step], 0.0, ca.inf)
         lock_products = self._lock_products(var, flex)
@@ -308,6 +310,17 @@ class StepProblem:
             len(theta), len(joints)
         )
 
+    def _joint_ranges(self, g: Constraints, link: Linkage, theta: np.ndarray) -> None:
+        """Hard limits of the joints that have a range and no lock (group ``joint_range``)."""
+        if not link.limited:
+            return
+        exprs = []
+        for th in theta:
+            for joint in link.limited:
+                angle = joint_angle(link, joint, th)
+                exprs += [angle - joint.range[0], joint.range[1] - angle]
+        g.add("joint_range", exprs, 0.0, ca.inf)
+
     def _dynamics(self, g: Constraints, var: dict, acc: list) -> None:
         """Collocate every segment's angle and angular velocity.
 
@@ -345,7 +358,7 @@ class StepProblem:
         g.add("friction", cone, 0.0, ca.inf)
         seg_name, point = self.roles.swing_foot
         i = self.seg_names.index(seg_name)
-        foot = [point_position(link.segments[i], point, var["q"][k][i]) for k in range(self.n_knots)]
+        foot = [ground_gap(link.segments[i], point, var["q"][k][i]) for k in range(self.n_knots)]
         g.add("swing_clearance", [z for _, z in foot[1:-1]], 0.0, ca.inf)
         g.add("landing", [foot[-1][1], foot[-1][0] - step])
 
@@ -375,7 +388,7 @@ class StepProblem:
         g.add("trail_friction", _cone(prm["friction"][0], *var["trail_impulse"]), 0.0, ca.inf)
         seg_name, point = self.roles.stance_foot
         j = self.seg_names.index(seg_name)
-        lift = point_velocity(link.segments[j], point, q_pre[j], v_post[j])
+        lift = ground_gap_rate(link.segments[j], point, q_pre[j], v_post[j])
         g.add("liftoff_x", [lift[0]])
         g.add("liftoff_z", [lift[1]])
         shift = np.array([step, 0, 0], dtype=object)
