@@ -15,6 +15,9 @@ from ioc_bench.human.case import HumanCaseSpec
 #: The shipped subjects and treadmill speeds.
 SHIPPED_SUBJECTS: tuple[str, ...] = ("WBDS01", "WBDS02", "WBDS03")
 SPEED_CODES: tuple[str, ...] = ("T03", "T04", "T05", "T06")
+#: Subjects of the data set that are not shipped, for the generalisation check (two young
+#: adults, two older ones whose force files mark the unloaded foot NaN).
+UNSHIPPED_SUBJECTS: tuple[str, ...] = ("WBDS04", "WBDS10", "WBDS30", "WBDS40")
 
 
 @dataclass(frozen=True)
@@ -83,6 +86,13 @@ HUMAN_SUITES: dict[str, HumanSuite] = {
             "the human track in a minute or two: WBDS01 trained at T05, predicting T04",
             ("WBDS01",),
             (Design(("T05",), ("T04",)),),
+        ),
+        HumanSuite(
+            "human-unshipped",
+            "subjects the package does not ship (needs --data: a WBDS folder): young adults WBDS04, WBDS10, "
+            "older adults WBDS30, WBDS40, each of T03 and T05 predicting the other",
+            UNSHIPPED_SUBJECTS,
+            (Design(("T03",), ("T05",)), Design(("T05",), ("T03",))),
         ),
         HumanSuite(
             "human",

@@ -290,8 +290,9 @@ def _lines(path: Path) -> list[str]:
     return lines
 
 
-def _numeric_rows(path: Path, lines: list[str], n_columns: int) -> np.ndarray:
-    """The tab-separated data lines as a (rows, n_columns) array of finite numbers."""
+def _numeric_rows(path: Path, lines: list[str], n_columns: int, may_be_nan: frozenset[int] = frozenset()) -> np.ndarray:
+    """The tab-separated data lines as a (rows, n_columns) array of finite numbers (``NaN``
+    allowed in the columns ``may_be_nan``)."""
     rows = []
     for i, line in enumerate(lines, start=2):
         fields = line.split("\t")
@@ -302,7 +303,7 @@ def _numeric_rows(path: Path, lines: list[str], n_columns: int) -> np.ndarray:
         except ValueError:
             bad = next(f for f in fields if not _is_float(f))
             raise WbdsDataError(f"{path.name} line {i}: {bad!r} is not a number") from None
-        if not all(math.isfinite(v) for v in values):
+        if not all(math.isfinite(v) or (j in may_be_nan and math.isnan(v)) for j, v in enumerate(values)):
             raise WbdsDataError(f"{path.name} line {i} has a non-finite value")
         rows.append(values)
     return np.array(rows, dtype=float).reshape(len(rows), n_columns)
@@ -329,18 +330,59 @@ def _header(path: Path, lines: list[str], required: tuple[str, ...]) -> list[str
     return header
 
 
+#: Ground-force columns: the data set marks a foot's force ``NaN`` while that foot is off the
+#: ground (its older adults' files do; the young adults' hold zeros there).
+_FORCE = re.compile(r"([RL])GRF[XYZ]")
+#: Most of a stride a foot may be marked unloaded (walking keeps each foot down about 60 %).
+MAX_UNLOADED = 0.6
+
+
 def read_mean_cycle(path: str | os.PathLike, required: tuple[str, ...]) -> MeanCycle:
-    """A mean-cycle file: a ``Time`` column 0..100 and ``required`` columns, 101 numeric rows."""
+    """A mean-cycle file: a ``Time`` column 0..100 and ``required`` columns, 101 numeric rows.
+
+    ``NaN`` is read only where the data set uses it, in a foot's ground-force columns while
+    that foot is unloaded: one run of rows (the swing, maybe across the cycle's ends), the
+    same rows in every axis of that foot, under :data:`MAX_UNLOADED` of the stride. It is
+    read as zero force. Any other ``NaN`` is a damaged file (one line naming it).
+    """
     path = Path(path)
     lines = _lines(path)
     header = _header(path, lines, ("Time", *required))
-    data = _numeric_rows(path, lines[1:], len(header))
+    forces = frozenset(j for j, name in enumerate(header) if _FORCE.fullmatch(name))
+    data = _numeric_rows(path, lines[1:], len(header), forces)
+    _unloaded_feet(path, header, data)
     if data.shape[0] != CYCLE_ROWS:
         raise WbdsDataError(f"{path.name} has {data.shape[0]} data rows, a mean cycle has {CYCLE_ROWS} (0..100 %)")
     time = data[:, header.index("Time")]
     if not np.allclose(time, np.arange(CYCLE_ROWS), atol=1e-6):
         raise WbdsDataError(f"{path.name}: the Time column is not 0, 1, ..., 100 (% of the stride)")
     return MeanCycle(path, {name: data[:, j] for j, name in enumerate(header)})
+
+
+def _unloaded_feet(path: Path, header: list[str], data: np.ndarray) -> None:
+    """Check the ``NaN`` of every foot's force columns (see :func:`read_mean_cycle`) and read
+    them as zero force, in place."""
+    for side in "RL":
+        cols = [j for j, name in enumerate(header) if _FORCE.fullmatch(name) and name[0] == side]
+        if not cols:
+            continue
+        nan = np.isnan(data[:, cols])
+        off = nan[:, 0]
+        if not nan.any():
+            continue
+        if not np.all(nan == off[:, None]):
+            raise WbdsDataError(f"{path.name}: the {side} foot's force is NaN in some axes and not in others")
+        if off.mean() > MAX_UNLOADED or _runs(off) > 1:
+            raise WbdsDataError(
+                f"{path.name}: the {side} foot's force is NaN in {int(off.sum())} rows, not one swing of the stride"
+            )
+        data[np.ix_(off, cols)] = 0.0
+
+
+def _runs(flags: np.ndarray) -> int:
+    """How many runs of True ``flags`` holds, counting one that wraps around the cycle once."""
+    starts = int(np.sum(flags & ~np.roll(flags, 1)))
+    return starts if not flags.all() else 1
 
 
 def read_static(path: str | os.PathLike) -> StaticMarkers:

@@ -111,6 +111,67 @@ def test_non_finite_value(folder: Path) -> None:
     _refused(folder, "line 8 has a non-finite value")
 
 
+def _unload(folder: Path, side: str, rows: range, axes: str = "XYZ") -> None:
+    """Mark ``side``'s ground force NaN in ``rows`` (the data set's unloaded foot), where it is zero."""
+
+    def mark(lines):
+        header = lines[0].split("\t")
+        cols = [header.index(f"{side}GRF{axis}") for axis in axes]
+        out = [lines[0]]
+        for i, line in enumerate(lines[1:]):
+            fields = line.split("\t")
+            if i in rows and len(fields) == len(header):
+                for j in cols:
+                    fields[j] = "NaN"
+            out.append("\t".join(fields))
+        return out
+
+    _edit(folder / KNT, mark)
+
+
+def _zero_force_rows(side: str) -> range:
+    """The rows of the shipped file where ``side``'s vertical force is zero (its swing)."""
+    cycle = WbdsData().trial(SUBJECT, SPEED).kinetics
+    zero = np.flatnonzero(cycle[f"{side}GRFY"] == 0)
+    return range(int(zero.min()), int(zero.max()) + 1)
+
+
+def test_an_unloaded_foot_marked_nan_reads_as_zero_force(folder: Path) -> None:
+    """Older adults' files of the data set mark the swinging foot's force NaN: that is zero force."""
+    swing = _zero_force_rows("R")
+    assert len(swing) > 20
+    _unload(folder, "R", swing)
+    read = WbdsData(folder).trial(SUBJECT, SPEED).kinetics
+    shipped = WbdsData().trial(SUBJECT, SPEED).kinetics
+    for name in KINETIC_COLUMNS:
+        assert np.array_equal(read[name], shipped[name]), name
+
+
+@pytest.mark.parametrize(
+    ("rows", "axes", "match"),
+    [
+        (range(10, 12), "X", "NaN in some axes and not in others"),
+        (range(0, 70), "XYZ", "not one swing of the stride"),
+        (range(-1, -1), "XYZ", None),  # no NaN at all: reads
+    ],
+)
+def test_nan_forces_that_are_no_swing_are_refused(folder: Path, rows, axes, match) -> None:
+    _unload(folder, "L", rows, axes)
+    if match is None:
+        WbdsData(folder).trial(SUBJECT, SPEED)
+    else:
+        _refused(folder, match)
+
+
+def test_nan_in_two_runs_or_outside_the_forces_is_refused(folder: Path) -> None:
+    _unload(folder, "L", range(5, 10))
+    _unload(folder, "L", range(30, 35))
+    _refused(folder, "not one swing")
+    (folder / KNT).write_text((shipped_folder() / KNT).read_text())
+    _edit(folder / ANG, lambda lines: [*lines[:5], lines[5].replace(lines[5].split("\t")[3], "NaN", 1), *lines[6:]])
+    _refused(folder, "non-finite value")
+
+
 def test_missing_column(folder: Path) -> None:
     _edit(folder / ANG, lambda lines: [lines[0].replace("RKneeAngleZ", "RKneeAngleW"), *lines[1:]])
     assert ANG in _refused(folder, "lacks column.*RKneeAngleZ")
