@@ -33,34 +33,8 @@ import numpy as np
 from ioc_bench.features import PAPER_GRAVITY
 from ioc_bench.human.wbds import StaticMarkers, TableRow, WbdsDataError
 from ioc_bench.model.params import SegmentParams, WalkerParams
+from ioc_bench.model.winter import HAT_LENGTH, WINTER
 
-
-@dataclass(frozen=True)
-class WinterSegment:
-    """One row of Winter's Table 4.1.
-
-    Attributes:
-        mass: segment mass over body mass.
-        com: centre of mass from the proximal end, over the segment length.
-        gyration: radius of gyration about the centre of mass, over the segment length.
-    """
-
-    mass: float
-    com: float
-    gyration: float
-
-
-#: Winter (2009) Table 4.1: HAT (greater trochanter to glenohumeral joint), thigh (greater
-#: trochanter to femoral condyles), leg (femoral condyles to medial malleolus), foot
-#: (lateral malleolus to head of metatarsal II).
-WINTER: dict[str, WinterSegment] = {
-    "hat": WinterSegment(0.678, 0.626, 0.496),
-    "thigh": WinterSegment(0.100, 0.433, 0.323),
-    "leg": WinterSegment(0.0465, 0.433, 0.302),
-    "foot": WinterSegment(0.0145, 0.50, 0.475),
-}
-#: Hip (greater trochanter) to shoulder (glenohumeral joint) over body height (Winter Fig. 4.1).
-HAT_LENGTH = 0.818 - 0.530
 #: Plausible range (m) of each leg segment length; outside it the markers are refused.
 SEGMENT_RANGE = (0.2, 0.7)
 #: Plausible range (m) of the ankle centre's height above the floor.

@@ -32,6 +32,7 @@ import numpy as np
 from ioc_bench.model.gait_model import GaitModel, GaitRoles, GuessShape, stance_swing_angles
 from ioc_bench.model.linkage import Joint, Linkage, Pin, Segment
 from ioc_bench.model.params import SegmentParams
+from ioc_bench.model.winter import HAT_LENGTH, WINTER
 
 #: Foot kinds: a point foot (the paper's), a rolling arc at the shank's end, a foot on an ankle.
 FOOT_KINDS = ("point", "roll", "ankle")
@@ -66,13 +67,6 @@ class FootParams:
         for name in ("mass", "inertia", "ankle_height"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"foot {name} must be positive, got {getattr(self, name)!r}")
-
-
-def _winter():
-    """Winter's Table 4.1 and the HAT length, from the subject's walker's own module."""
-    from ioc_bench.human.anthropometry import HAT_LENGTH, WINTER
-
-    return WINTER, HAT_LENGTH
 
 
 #: The reference body of the default parameters, metres: thigh, shank (knee to ankle),
@@ -195,7 +189,7 @@ def footed_params(
     (Winter), placed half a foot ahead of the ankle at half its height; the sole arc's
     lowest point is a quarter foot ahead of the ankle.
     """
-    w, hat_length = _winter()
+    w, hat_length = WINTER, HAT_LENGTH
     leg = thigh + shank + ankle_height
     if not (math.isfinite(height) and height > leg > 0):
         raise ValueError(f"body height {height!r} m must exceed the leg length {leg:.3f} m")
