@@ -36,7 +36,7 @@ from ioc_bench.checks import check_count, check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_json, read_bytes
 from ioc_bench.human.observe import human_observation
-from ioc_bench.human.record import TRACK, HumanResult, SpeedScore
+from ioc_bench.human.record import TRACK, HumanResult, SpeedScore, design_of
 from ioc_bench.human.scoring import (
     NOMINAL,
     SolvedStep,
@@ -163,8 +163,6 @@ class HumanCaseSpec:
 
     @property
     def design(self) -> str:
-        from ioc_bench.human.record import design_of
-
         return design_of(len(self.training), len(self.predict), bool(self.population))
 
     @property

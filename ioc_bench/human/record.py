@@ -209,7 +209,7 @@ def _typed(cls: type, data: Any, what: str, extra: set[str] = frozenset()) -> di
 
 def check_record(record: HumanResult) -> None:
     """``ValueError`` naming the first value of ``record`` out of range or inconsistent."""
-    from ioc_bench.human.case import HumanCaseSpec
+    from ioc_bench.human.case import HumanCaseSpec  # which imports this module
 
     identity = {f: getattr(record, f) for f in HumanCaseSpec.identity_fields()}
     spec = HumanCaseSpec(**identity)  # a valid case: subject, speeds, algorithm, config, options
