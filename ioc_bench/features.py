@@ -33,7 +33,7 @@ PAPER_GRAVITY = 9.81
 TORQUE_UNIT = PAPER_GRAVITY
 #: Seconds per model time unit (sqrt(L / g)).
 TIME_UNIT = PAPER_GRAVITY**-0.5
-#: Target step length of the ``steplen`` distractor (SPEC section 2), metres (= leg lengths).
+#: Target step length of the ``steplen`` distractor (``docs/spec.md``, "Distractor features"), metres (= leg lengths).
 STEPLEN_TARGET = 0.3
 #: Scale of the torque-rate feature, "due to unit differences" (the paper).
 DTAU_SCALE = 0.001

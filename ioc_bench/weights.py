@@ -1,4 +1,4 @@
-"""Cost weights: the named sets of SPEC section 2 and the parsing every entry point shares."""
+"""Cost weights: the named sets (``docs/spec.md``, "Weight sets") and the parsing every entry point shares."""
 
 from __future__ import annotations
 

@@ -83,7 +83,7 @@ def solve(step, weights, starts: int, verify: bool) -> dict:
 
 
 #: Probes beside the grid: (walker, label, weights, starts). "default" is the benchmark's
-#: walker (SPEC section 1), not scaled to the person, as in the issue's own measurements.
+#: walker (docs/spec.md, "Segment parameters"), not scaled to the person, as in the issue's own measurements.
 PROBES = (
     ("default", "nominal", (1.0, 1.0, 1.0), 2),
     ("default", "1,4,0", (1.0, 4.0, 0.0), 2),

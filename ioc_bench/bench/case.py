@@ -180,9 +180,9 @@ class CaseResult:
             or ``failed`` (then ``reason`` says why).
         weights: estimated weights over ``features``, unit norm (NaN if failed).
         true_weights: the truth over ``features`` (distractors 0), unit norm.
-        weight_error: mean absolute weight difference (SPEC section 5).
+        weight_error: mean absolute weight difference (``docs/spec.md``, "Metrics").
         trajectory_error: the paper's trajectory error (segment angles and angular
-            velocities, SPEC section 5) of the estimated weights' optimal step, re-solved in
+            velocities, ``docs/spec.md``, "Metrics") of the estimated weights' optimal step, re-solved in
             the observation's basin for scoring.
         found_trajectory_error: the paper's own reading: the trajectory error of the step
             found during the IOC for the output weights (its chosen iteration); None for an

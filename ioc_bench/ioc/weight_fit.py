@@ -1,4 +1,4 @@
-"""The weight optimization at the core of the paper's IOC (SPEC section 3, step 2).
+"""The weight optimization at the core of the paper's IOC (``docs/spec.md``, "The baseline IOC method", step 2).
 
 Given feature differences ``d_i = phi(x_i^-) - phi(x*)`` of suboptimal samples, find unit
 weights in ``[lower, upper]`` under which every sample costs more than the observation

@@ -20,7 +20,7 @@ from ioc_bench.trajectory import Trajectory
 from ioc_bench.trajopt.forward_problem import ForwardProblem
 from ioc_bench.trajopt.step_problem import StepRules, classify_active
 
-#: Leg length of the human-sized walker the figures are also given for (SPEC section 2), m.
+#: Leg length of the human-sized walker the figures are also given for (``docs/spec.md``, "Units"), m.
 HUMAN_LEG = 0.9
 #: Gravity for that conversion, m/s^2.
 GRAVITY = 9.81
