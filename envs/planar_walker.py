@@ -184,8 +184,8 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     torso angle leaves `healthy_angle_range` (default `(-1, 1)` rad), when
     `terminate_when_unhealthy` is True.
     ### Truncation
-    1000 steps (10 time units: about 12 of the earlier short steps, 7-8 of the benchmark's
-    current ones of 1.2-1.4) when made with `gymnasium.make` (`max_episode_steps` overrides it).
+    1000 steps (10 time units: 7-8 of the benchmark's steps of 1.2-1.4) when made with
+    `gymnasium.make` (`max_episode_steps` overrides it).
 
     ## State
     `get_state()` returns a `WalkerState`: MuJoCo's integration state (time, `qpos`,

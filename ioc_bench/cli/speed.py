@@ -8,7 +8,7 @@ import sys
 
 from ioc_bench.cli.common import add_json_flag, positive_int, print_json
 
-#: Targets of the "Optimal walking gaits" issue, in seconds.
+#: What a solve should take on a 2-core machine, in seconds; each median is printed against its target.
 TARGETS = {"cold_median_s": 2.0, "warm_median_s": 0.5, "multistart_median_s": 15.0}
 
 
