@@ -235,11 +235,11 @@ def test_output_checks_refuse_locations_under_files(tmp_path):
     assert not (tmp_path / "new").exists()  # a check creates nothing
 
 
-# -- what a path may be (issue 24) -------------------------------------------------------------
+# -- what a path may be --------------------------------------------------------------------------
 
 
 def test_atomic_write_many_leaves_no_temporary_when_a_rename_fails(tmp_path, staging):
-    """(Issue 24: README.md being a folder left leaderboard.json's temporary behind.)"""
+    """README.md being a folder: the rename fails, and leaderboard.json's temporary is removed too."""
     (tmp_path / "README.md").mkdir()
     with pytest.raises(OSError):
         atomic_write_many({tmp_path / "README.md": b"md", tmp_path / "leaderboard.json": b"{}"})
@@ -322,7 +322,7 @@ def test_good_output_locations_pass(odd_files):
 
 
 def test_read_bytes_opens_regular_files_only_within_a_limit(odd_files):
-    """(Issue 24: /dev/zero exhausted memory, a FIFO blocked the reader forever.)"""
+    """/dev/zero would exhaust memory and a FIFO would block the reader forever: both are refused."""
     assert fileio.read_bytes(odd_files / "file", 10) == b"x"
     refused = {
         odd_files / "fifo": "is a FIFO",  # would block a plain open() forever
