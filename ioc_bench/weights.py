@@ -8,15 +8,10 @@ import numpy as np
 
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 
-#: The paper's four weight sets over (hip, knee, dtau), before normalisation.
-WEIGHT_SETS: dict[str, tuple[float, float, float]] = {
-    "nominal": (1.0, 1.0, 1.0),
-    "penalize-hip": (10.0, 1.0, 1.0),
-    "penalize-knee": (1.0, 10.0, 1.0),
-    "penalize-dtau": (1.0, 1.0, 10.0),
-}
 #: The factor a ``penalize-<feature>`` set puts on its feature (the others 1).
 PENALTY = 10.0
+#: The name of the set that penalises a feature is this prefix and the feature's name.
+PENALIZE_PREFIX = "penalize-"
 
 
 def weight_sets(cost: Sequence[str] = COST_FEATURES) -> dict[str, tuple[float, ...]]:
@@ -24,8 +19,18 @@ def weight_sets(cost: Sequence[str] = COST_FEATURES) -> dict[str, tuple[float, .
     ``penalize-<feature>`` each (10 on it, 1 elsewhere); the paper's four for the walker."""
     sets = {"nominal": tuple(1.0 for _ in cost)}
     for f in cost:
-        sets[f"penalize-{f}"] = tuple(PENALTY if g == f else 1.0 for g in cost)
+        sets[PENALIZE_PREFIX + f] = tuple(PENALTY if g == f else 1.0 for g in cost)
     return sets
+
+
+def penalised_feature(name: str, features: Sequence[str] = COST_FEATURES) -> str | None:
+    """The feature of ``features`` that the weight set ``name`` penalises (``penalize-<feature>``
+    of :func:`weight_sets`), or None if the set penalises none of them."""
+    return next((f for f in features if name == PENALIZE_PREFIX + f), None)
+
+
+#: The paper's four weight sets over the walker's (hip, knee, dtau), before normalisation.
+WEIGHT_SETS: dict[str, tuple[float, ...]] = weight_sets(COST_FEATURES)
 
 
 WeightSpec = str | Sequence[float] | Mapping[str, float] | np.ndarray

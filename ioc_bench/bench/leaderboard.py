@@ -34,7 +34,7 @@ from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_many, check_output_dir, check_output_file, json_text
 from ioc_bench.model.catalogue import MODELS, get_model
-from ioc_bench.weights import WEIGHT_SETS, weight_sets
+from ioc_bench.weights import WEIGHT_SETS, penalised_feature, weight_sets
 
 #: The files a leaderboard is written as, in its output folder.
 FILES = ("README.md", "leaderboard.json")
@@ -91,10 +91,8 @@ def _mean(values: Sequence[float]) -> float:
 
 def penalised_is_largest(result: CaseResult) -> bool | None:
     """For a penalize-* case: is the penalised feature's estimated weight the largest?"""
-    if not result.weight_set.startswith("penalize-") or result.failed:
-        return None
-    feature = result.weight_set.removeprefix("penalize-")
-    if feature not in result.features:
+    feature = penalised_feature(result.weight_set, result.features)
+    if feature is None or result.failed:
         return None
     return int(np.argmax(result.weights)) == result.features.index(feature)
 
