@@ -27,6 +27,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import IO, Any
 
+from ioc_bench.checks import shown
+
 #: Suffix of the temporary files of :func:`atomic_write`.
 TEMP_SUFFIX = ".tmp"
 _PROC_FD = Path("/proc/self/fd")
@@ -110,6 +112,8 @@ def to_jsonable(obj: Any) -> Any:
 
 #: Longest file name (bytes) of the usual Linux file systems.
 MAX_NAME_BYTES = 255
+#: Characters of a path a message shows (its start and its end).
+SHOWN_PATH = 80
 #: Longest path (bytes) a system call takes: PATH_MAX less the closing NUL.
 MAX_PATH_BYTES = 4095
 #: File systems the kernel makes up: never a place for a file of ours.
@@ -144,19 +148,18 @@ def check_path_text(path: Any, what: str = "the path") -> Path:
         text = os.fsdecode(text)
     if text == "":
         raise PathError(f"{what} is an empty string (say '.' for the current folder)")
+    named = f"{what} {shown(text, SHOWN_PATH)}"
     if "\0" in text:
-        raise PathError(f"{what} {_shown(text)} contains a NUL character")
+        raise PathError(f"{named} contains a NUL character")
     try:
         raw = os.fsencode(text)
     except UnicodeEncodeError:
-        raise PathError(f"{what} {_shown(text)} cannot be encoded as a file name") from None
+        raise PathError(f"{named} cannot be encoded as a file name") from None
     if len(raw) > MAX_PATH_BYTES:
-        raise PathError(f"{what} {_shown(text)} is {len(raw)} bytes long, over the {MAX_PATH_BYTES} a path may have")
+        raise PathError(f"{named} is {len(raw)} bytes long, over the {MAX_PATH_BYTES} a path may have")
     for name in raw.split(b"/"):
         if len(name) > MAX_NAME_BYTES:
-            raise PathError(
-                f"{what} {_shown(text)} has a name of {len(name)} bytes, over the {MAX_NAME_BYTES} a file name may have"
-            )
+            raise PathError(f"{named} has a name of {len(name)} bytes, over the {MAX_NAME_BYTES} a file name may have")
     return Path(text)
 
 
@@ -305,7 +308,7 @@ def check_name(name: Any, what: str = "file name") -> str:
         or ".." in name
         or len(name.encode()) > MAX_NAME_BYTES
     ):
-        raise PathError(f"unsafe {what} {_shown(str(name))}: use letters, digits and -._+ (no leading dot)")
+        raise PathError(f"unsafe {what} {shown(str(name), SHOWN_PATH)}: use letters, digits and -._+ (no leading dot)")
     return name
 
 
@@ -428,10 +431,6 @@ def _reason(exc: OSError) -> str:
     if exc.errno == errno.ELOOP:
         return "a symbolic link loop"
     return exc.strerror or str(exc)
-
-
-def _shown(text: str, limit: int = 80) -> str:
-    return repr(text) if len(text) <= limit else repr(text[: limit - 20] + "..." + text[-17:])
 
 
 def is_temporary(path: str | os.PathLike) -> bool:

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.checks import shown
 from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
 
 #: Longest status text kept (a status is a word or ``failed: <reason>``).
@@ -43,9 +44,9 @@ def _result(result: Any, n: int) -> None:
         raise ContractError(f"fit() returned {type(result).__name__}, not IOCResult")
     w = _numbers(result.weights, n, "weights")
     if not np.all(np.isfinite(w)):
-        raise ContractError(f"returned non-finite weights {_short(w.tolist())} (status {_short(result.status)})")
+        raise ContractError(f"returned non-finite weights {shown(w.tolist())} (status {shown(result.status)})")
     if np.any(w < 0):
-        raise ContractError(f"returned negative weights {_short(w.tolist())}")
+        raise ContractError(f"returned negative weights {shown(w.tolist())}")
     if not np.any(w > 0):
         raise ContractError("returned all-zero weights")
     _text(result.status, "status")
@@ -55,7 +56,7 @@ def _result(result: Any, n: int) -> None:
         _record(record, n, f"history[{i}]")
     chosen = result.chosen_iteration
     if chosen is not None and (not _integer(chosen) or not 0 <= chosen < len(result.history)):
-        raise ContractError(f"chosen_iteration {_short(chosen)} is not an index into the {len(result.history)} records")
+        raise ContractError(f"chosen_iteration {shown(chosen)} is not an index into the {len(result.history)} records")
     _json(result.notes, "notes")
     if result.uncertainty is not None:
         _region(result.uncertainty, n)
@@ -70,7 +71,7 @@ def _record(record: Any, n: int, where: str) -> None:
     for name in ("tracking_error", "trajectory_error"):
         value = getattr(record, name)
         if not _real(value) or (math.isfinite(value) and value < 0):
-            raise ContractError(f"{where}.{name} must be a number >= 0 (NaN if unknown), got {_short(value)}")
+            raise ContractError(f"{where}.{name} must be a number >= 0 (NaN if unknown), got {shown(value)}")
     _text(record.solve_status, f"{where}.solve_status", empty=True)
     _json(record.extra, f"{where}.extra")
 
@@ -95,7 +96,7 @@ def _region(region: Any, n: int) -> None:
     if np.any(lower > upper):
         raise ContractError("uncertainty has a lower bound above its upper bound")
     if not (_real(region.level) and 0 < region.level < 1):
-        raise ContractError(f"uncertainty.level must be in (0, 1), got {_short(region.level)}")
+        raise ContractError(f"uncertainty.level must be in (0, 1), got {shown(region.level)}")
     if region.covariance is not None:
         try:
             cov = np.asarray(region.covariance, dtype=float)
@@ -111,7 +112,7 @@ def _numbers(value: Any, n: int, name: str) -> np.ndarray:
     if isinstance(items, (str, bytes)) or not isinstance(items, (list, tuple)):
         raise ContractError(f"{name} must be a sequence of {n} numbers, got {type(value).__name__}")
     if not all(_real(x) for x in items):
-        raise ContractError(f"{name} must hold numbers, got {_short(items)}")
+        raise ContractError(f"{name} must hold numbers, got {shown(items)}")
     arr = np.asarray(items, dtype=float)
     if arr.shape != (n,):
         raise ContractError(
@@ -135,7 +136,7 @@ def _text(value: Any, name: str, empty: bool = False) -> None:
     if not one_line or (not empty and not value) or len(value) > MAX_STATUS:
         raise ContractError(
             f"{name} must be a{'' if empty else ' non-empty'} text of at most {MAX_STATUS} characters, "
-            f"got {_short(value)}"
+            f"got {shown(value)}"
         )
 
 
@@ -145,7 +146,7 @@ def _json(value: Any, name: str) -> None:
     try:
         text = json.dumps(_plain(value), allow_nan=True)
     except (TypeError, ValueError, RecursionError) as exc:
-        raise ContractError(f"{name} must hold JSON values (numbers, text, lists, dicts): {_short(str(exc))}") from None
+        raise ContractError(f"{name} must hold JSON values (numbers, text, lists, dicts): {shown(str(exc))}") from None
     if len(text) > MAX_NOTES_BYTES:
         raise ContractError(f"{name} is {len(text)} bytes as JSON, more than {MAX_NOTES_BYTES}")
 
@@ -161,8 +162,3 @@ def _plain(value: Any) -> Any:
     if isinstance(value, (np.ndarray, np.generic)):
         return value.tolist()
     return value
-
-
-def _short(value: Any, limit: int = 60) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[: limit - 3] + "..."

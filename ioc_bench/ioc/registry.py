@@ -24,7 +24,7 @@ import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from ioc_bench.checks import TypeMismatch, coerce
+from ioc_bench.checks import TypeMismatch, coerce, shown
 from ioc_bench.fileio import to_jsonable
 from ioc_bench.ioc.algorithm import FAMILIES, IOCAlgorithm
 
@@ -168,8 +168,7 @@ def get_algorithm(name: str) -> type[IOCAlgorithm]:
             if ep.name == name and _load_plugin(ep):
                 break
     if name not in _REGISTRY:
-        shown = name if len(name) <= 60 else name[:57] + "..."
-        raise AlgorithmError(f"unknown algorithm {shown!r}; valid: {', '.join(_loadable())}")
+        raise AlgorithmError(f"unknown algorithm {shown(name)}; valid: {', '.join(_loadable())}")
     return _REGISTRY[name]
 
 
