@@ -35,7 +35,7 @@ from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import cost_features
 from ioc_bench.ioc.algorithm import IOCResult
-from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.contract import contract_breach
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import (
@@ -334,7 +334,7 @@ def run_spec(
         last = traceback.extract_tb(exc.__traceback__)[-1]
         return _failed(base, f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})", problem, t0)
     wall = _elapsed(problem, t0)
-    reason = check_result(result, problem.n_features)
+    reason = contract_breach(result, problem.n_features)
     if reason:
         return _failed(base, reason, problem, t0)
     truth = None if other is None else (transfer_demo if transfer_demo is not None else demonstration(other))

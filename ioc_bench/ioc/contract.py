@@ -1,6 +1,6 @@
 """The boundary between an algorithm and the benchmark: everything ``fit`` returns is checked.
 
-:func:`check_result` reads an algorithm's answer field by field (the weights, every history
+:func:`contract_breach` reads an algorithm's answer field by field (the weights, every history
 record, the chosen index, the notes, the uncertainty region) and returns a one-line reason
 for the first thing that breaks the contract of :mod:`ioc_bench.ioc.algorithm`, or an empty
 string. The case pipeline records a case with such a reason as failed, whatever entry point
@@ -30,13 +30,18 @@ class ContractError(ValueError):
     """An algorithm returned something the plugin contract does not allow."""
 
 
-def check_result(result: Any, n_features: int) -> str:
-    """The first way ``result`` breaks the contract for a problem of ``n_features``, or ``""``."""
+def contract_breach(result: Any, n_features: int) -> str:
+    """The first way ``result`` breaks the contract for a problem of ``n_features``, or ``""``
+    (a reason, never raised: the case pipeline records it)."""
     try:
         _result(result, n_features)
     except ContractError as exc:
         return str(exc)
     return ""
+
+
+#: Alias of :func:`contract_breach`, importable for code written against this name (``ioc_bench.human.track``).
+check_result = contract_breach
 
 
 def _result(result: Any, n: int) -> None:
