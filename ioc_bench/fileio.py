@@ -296,7 +296,7 @@ def read_bytes(path: str | os.PathLike, max_bytes: int, what: str = "file", foll
     return b"".join(chunks)
 
 
-def check_name(name: Any, what: str = "file name") -> str:
+def check_file_name(name: Any, what: str = "file name") -> str:
     """``name`` if it is a plain file name made of letters, digits and ``-._+``; else :class:`PathError`.
 
     For names built from content (an algorithm's name in a figure's file name): no
@@ -310,6 +310,10 @@ def check_name(name: Any, what: str = "file name") -> str:
     ):
         raise PathError(f"unsafe {what} {shown(str(name), SHOWN_PATH)}: use letters, digits and -._+ (no leading dot)")
     return name
+
+
+#: Alias of :func:`check_file_name`, importable for code written against this name.
+check_name = check_file_name
 
 
 _SAFE_NAME = re.compile(r"[A-Za-z0-9_+-][A-Za-z0-9._+-]*")

@@ -353,10 +353,10 @@ def test_paths_inside_a_tree_must_stay_inside_it(odd_files):
 
 
 def test_names_built_from_content_are_plain_names():
-    assert fileio.check_name("figure4_log-barrier__cfg1234abcd.png")
+    assert fileio.check_file_name("figure4_log-barrier__cfg1234abcd.png")
     for name in ("x/../../ESCAPED", "..", ".hidden", "a b", "", "n" * 256, None, "a\\b"):
         with pytest.raises(fileio.PathError, match="unsafe"):
-            fileio.check_name(name)
+            fileio.check_file_name(name)
 
 
 def test_pseudo_file_systems_are_found_from_the_mount_table():

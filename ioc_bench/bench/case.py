@@ -41,8 +41,8 @@ from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProble
 from ioc_bench.ioc.registry import (
     AlgorithmError,
     canonical_config,
+    check_algorithm_name,
     check_config,
-    check_name,
     get_algorithm,
     make_algorithm,
 )
@@ -87,7 +87,7 @@ class CaseSpec:
     true_weights: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        check_name(self.algorithm)
+        check_algorithm_name(self.algorithm)
         cond = self.condition if isinstance(self.condition, Condition) else get_condition(self.condition)
         object.__setattr__(self, "condition", cond.name)
         object.__setattr__(self, "_condition", cond)

@@ -47,7 +47,7 @@ from ioc_bench.fileio import (
 )
 from ioc_bench.ioc.algorithm import WeightRegion
 from ioc_bench.ioc.contract import MAX_STATUS, check_region
-from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
+from ioc_bench.ioc.registry import NAME_PATTERN, check_algorithm_name, config_overrides, make_algorithm
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``).
@@ -250,7 +250,7 @@ def check_result(result: CaseResult) -> None:
     a case may lack them), a sane solve count, a chosen iteration inside the history, a
     short status.
     """
-    check_name(result.algorithm)
+    check_algorithm_name(result.algorithm)
     check_seed(result.seed)
     names = result.features
     if len(set(names)) != len(names) or not set(names) <= set(FEATURES):

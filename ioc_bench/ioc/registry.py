@@ -61,7 +61,7 @@ def register_algorithm(name: str) -> Callable[[type[IOCAlgorithm]], type[IOCAlgo
     return decorate
 
 
-def check_name(name: Any) -> str:
+def check_algorithm_name(name: Any) -> str:
     """``name`` if it is a valid algorithm name, else :class:`AlgorithmError`."""
     if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name) or ".." in name:
         raise AlgorithmError(
@@ -70,8 +70,13 @@ def check_name(name: Any) -> str:
     return name
 
 
+#: Alias of :func:`check_algorithm_name`, importable for code written against this name
+#: (``ioc_bench.human.track``, plugins).
+check_name = check_algorithm_name
+
+
 def _add(name: str, cls: Any, origin: str) -> None:
-    check_name(name)
+    check_algorithm_name(name)
     if not (isinstance(cls, type) and issubclass(cls, IOCAlgorithm)):
         raise AlgorithmError(f"algorithm {name!r} from {origin} is not an IOCAlgorithm subclass")
     if cls.family not in FAMILIES:

@@ -29,7 +29,7 @@ from ioc_bench.bench.conditions import AXES, CONDITIONS
 from ioc_bench.bench.results import load_results, no_results_message, run_slug
 from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.fileio import atomic_write_text, check_name, check_output_dir, check_output_file
+from ioc_bench.fileio import atomic_write_text, check_file_name, check_output_dir, check_output_file
 from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
 from ioc_bench.viz.convergence import draw_convergence
@@ -422,7 +422,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
 
     File names are built from checked identifiers only (an algorithm's name and config
     digest, :func:`~ioc_bench.bench.results.run_slug`) and each must be a plain file name
-    (:func:`~ioc_bench.fileio.check_name`): content never names a path. Raises
+    (:func:`~ioc_bench.fileio.check_file_name`): content never names a path. Raises
     ``ValueError`` otherwise.
     """
     slugged = _slugged(results)
@@ -430,7 +430,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
     for alg in sorted({r.algorithm for r in slugged}):
         for figure, conditions in (("figure4", ("ideal",)), ("figure5", FIGURE5_CONDITIONS)):
             if any(r.algorithm == alg and r.condition in conditions for r in slugged):
-                names[f"{figure}_{alg}"] = check_name(f"{figure}_{alg}.png")
+                names[f"{figure}_{alg}"] = check_file_name(f"{figure}_{alg}.png")
     names["figure6"] = "figure6.png"
     if robustness_curves(slugged):
         names["robustness"] = "robustness.png"
@@ -439,7 +439,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
 
 def _slugged(results: Sequence[CaseResult]) -> list[CaseResult]:
     """Results whose ``algorithm`` is their run's slug (one config of one algorithm), checked."""
-    return [replace(r, algorithm=check_name(run_slug(r), "algorithm name")) for r in results]
+    return [replace(r, algorithm=check_file_name(run_slug(r), "algorithm name")) for r in results]
 
 
 def make_figures(

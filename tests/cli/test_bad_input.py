@@ -795,7 +795,7 @@ ENTRY_POINT_ERRORS = [
     ("write_leaderboard(results, out)", "ValueError", "PathError for out and its two files; before writing"),
     ("make_figures(results_dir, out_dir)", "ValueError",
      "ResultFileError for the results, PathError for out_dir and each file; before drawing"),
-    ("fileio.check_* / read_bytes / check_inside / check_name", "PathError", ""),
+    ("fileio.check_* / read_bytes / check_inside / check_file_name", "PathError", ""),
 ]  # fmt: skip
 
 
