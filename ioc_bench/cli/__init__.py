@@ -17,7 +17,7 @@ from ioc_bench.cli.common import UsageError, fail
 COMMANDS: tuple[str, ...] = (
     "gait",
     "table1",
-    "speed",
+    "solver_timing",
     "replay",
     "algorithms",
     "ioc",

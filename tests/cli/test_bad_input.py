@@ -229,7 +229,7 @@ CASES: list[Case] = [
     C("gait-weights-four", ARGUMENT, "gait --weights 1,2,3,4", "expected 3 weights"),
     C("gait-starts-zero", ARGUMENT, "gait --starts 0", "must be >= 1"),
     C("table1-seed-negative", ARGUMENT, "table1 --seed -1", "must be >= 0"),
-    C("speed-repeats-zero", ARGUMENT, "speed --repeats 0", "must be >= 1"),
+    C("solver-timing-repeats-zero", ARGUMENT, "solver-timing --repeats 0", "must be >= 1"),
     C("run-time-limit-nan", ARGUMENT, "run --time-limit nan", "must be a positive number"),
     C("run-workers-zero", ARGUMENT, "run --workers 0", "must be >= 1"),
     C("replay-steps-zero", ARGUMENT, "replay {demo} --steps 0", "must be >= 1"),
