@@ -42,7 +42,7 @@ from ioc_bench.bench.results import (
 )
 from ioc_bench.checks import MAX_JSON_DEPTH, load_json
 from ioc_bench.cli import main
-from ioc_bench.fileio import (
+from ioc_bench.paths import (
     PathError,
     check_input_file,
     check_inside,

@@ -32,8 +32,9 @@ from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.features import cost_features
-from ioc_bench.fileio import atomic_write_many, check_output_dir, check_output_file, json_text
+from ioc_bench.fileio import atomic_write_many, json_text
 from ioc_bench.model.catalogue import MODELS, get_model
+from ioc_bench.paths import check_output_dir, check_output_file
 from ioc_bench.weights import WEIGHT_SETS, penalised_feature, weight_sets
 
 #: The files a leaderboard is written as, in its output folder.
@@ -415,7 +416,7 @@ def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, sou
     :func:`~ioc_bench.fileio.atomic_write_many`: an error leaves the old board whole.
     ``leaderboard.json`` records the SHA-256 of the ``README.md`` written with it.
     Raises ``ValueError`` for no results, or an ``out`` (or a file in it) that cannot be
-    written (:mod:`ioc_bench.fileio`'s checks), before anything is written.
+    written (:mod:`ioc_bench.paths`' checks), before anything is written.
     """
     if not results:
         raise ValueError("no case results to summarise")

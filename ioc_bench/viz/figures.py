@@ -29,7 +29,8 @@ from ioc_bench.bench.conditions import AXES, CONDITIONS
 from ioc_bench.bench.results import load_results, no_results_message, run_slug
 from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.fileio import atomic_write_text, check_file_name, check_output_dir, check_output_file
+from ioc_bench.fileio import atomic_write_text
+from ioc_bench.paths import check_file_name, check_output_dir, check_output_file
 from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
 from ioc_bench.viz.convergence import draw_convergence
@@ -422,7 +423,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
 
     File names are built from checked identifiers only (an algorithm's name and config
     digest, :func:`~ioc_bench.bench.results.run_slug`) and each must be a plain file name
-    (:func:`~ioc_bench.fileio.check_file_name`): content never names a path. Raises
+    (:func:`~ioc_bench.paths.check_file_name`): content never names a path. Raises
     ``ValueError`` otherwise.
     """
     slugged = _slugged(results)
@@ -451,7 +452,7 @@ def make_figures(
     ``figure4_<algorithm>`` / ``figure5_<algorithm>`` for algorithms with ideal /
     imperfect-condition cases, and ``figure6`` (see :func:`output_names`). Raises
     ``ValueError`` as :func:`select_results` does, and for an ``out_dir`` (or a file in it)
-    that cannot be written (:mod:`ioc_bench.fileio`'s checks), all before drawing.
+    that cannot be written (:mod:`ioc_bench.paths`' checks), all before drawing.
     """
     selected = select_results(results_dir, algorithms)
     names = output_names(selected)

@@ -43,7 +43,7 @@ from ioc_bench.bench.results import (
     write_result,
 )
 from ioc_bench.cli import main
-from ioc_bench.fileio import PathError, check_output_dir, read_bytes
+from ioc_bench.paths import PathError, check_output_dir, read_bytes
 from ioc_bench.viz.figures import make_figures
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "bad_input.md"
@@ -733,7 +733,7 @@ HOSTILE_HANDLING = [
     ("readers follow links named like results (/etc/passwd, /dev/zero), a FIFO blocks leaderboard forever",
      "result files are opened without following links and without blocking, checked to be regular files on the "
      "open descriptor, at most 32 MiB read",
-     "tests/test_fileio.py::test_read_bytes_opens_regular_files_only_within_a_limit, "
+     "tests/test_paths.py::test_read_bytes_opens_regular_files_only_within_a_limit, "
      "tests/test_hostile_inputs.py::test_property_a_hostile_input_path_is_refused_without_blocking"),
     ("leaderboard --out '' writes into the current folder; replay leaves MUJOCO_LOG.TXT there",
      "every path argument is parsed by one type that refuses ''; MuJoCo warnings go to stderr",
@@ -754,8 +754,8 @@ HOSTILE_HANDLING = [
      "the API row run_case(weights=\"penalize-knee\", demo=...) above"),
     ("outputs under /proc or /sys, through a link loop, with a 256-byte name, or '' pass a check "
      "(os.access says yes as root) and fail after the solve",
-     "one policy (ioc_bench.fileio) for every command and the API, writability probed by making an unnamed file",
-     "tests/test_fileio.py::test_output_dirs_that_would_fail_after_the_work_are_refused, "
+     "one policy (ioc_bench.paths) for every command and the API, writability probed by making an unnamed file",
+     "tests/test_paths.py::test_output_dirs_that_would_fail_after_the_work_are_refused, "
      "tests/test_hostile_inputs.py::test_property_every_command_refuses_a_hostile_path_before_any_work"),
     ("IOC_BENCH_CACHE naming a file fails after the work", "the cache folder is checked before the work (ioc, run)",
      "rows ioc-cache-a-file, run-cache-a-file above"),
@@ -795,7 +795,7 @@ ENTRY_POINT_ERRORS = [
     ("write_leaderboard(results, out)", "ValueError", "PathError for out and its two files; before writing"),
     ("make_figures(results_dir, out_dir)", "ValueError",
      "ResultFileError for the results, PathError for out_dir and each file; before drawing"),
-    ("fileio.check_* / read_bytes / check_inside / check_file_name", "PathError", ""),
+    ("paths.check_* / read_bytes / check_inside / check_file_name", "PathError", ""),
 ]  # fmt: skip
 
 
@@ -812,7 +812,7 @@ def render_table() -> str:
         "with solving disabled, so none of them got to any expensive work; each one also left its scratch folder",
         "as it was and wrote nothing in the current folder (no file outside --out, no temporary left).",
         "",
-        "What a path may be is decided in one place, `ioc_bench.fileio`, for every command and the API: not empty,",
+        "What a path may be is decided in one place, `ioc_bench.paths`, for every command and the API: not empty,",
         "no NUL, names of at most 255 bytes and paths of at most 4095, no link loop or link to nothing, not under a",
         "kernel pseudo-file system (/proc, /sys, /dev, or any proc/sysfs/devtmpfs/cgroup... mount; /dev/shm is",
         "allowed), a folder one can write in (tried by making an unnamed file: as root `os.access` says yes to",
