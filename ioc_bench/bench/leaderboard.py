@@ -34,7 +34,7 @@ from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_many, json_text
 from ioc_bench.model.catalogue import MODELS, get_model
-from ioc_bench.paths import check_output_dir, check_output_file
+from ioc_bench.paths import PathError, check_output_dir, check_output_file
 from ioc_bench.weights import WEIGHT_SETS, penalised_feature, weight_sets
 
 #: The files a leaderboard is written as, in its output folder.
@@ -409,31 +409,59 @@ def _cell_text(text: str) -> str:
     return " ".join(text.split()).replace("|", "\\|")
 
 
+@dataclass(frozen=True)
+class LeaderboardPlan:
+    """A leaderboard ready to write: its results and its output checked (:func:`plan_leaderboard`)."""
+
+    results: tuple[CaseResult, ...]
+    out: Path
+    source: str = "results/"
+
+    def write(self) -> list[Path]:
+        """Render ``README.md`` and ``leaderboard.json`` in full, then write both with
+        :func:`~ioc_bench.fileio.atomic_write_many` (an error leaves a board already there
+        whole); returns their paths. ``leaderboard.json`` records the SHA-256 of the
+        ``README.md`` written with it."""
+        results, source = self.results, self.source
+        md = markdown(results, source).encode()
+        data = {
+            "generated_by": f"ioc-bench leaderboard {source}",
+            "readme_sha256": hashlib.sha256(md).hexdigest(),
+            "versions": versions(),
+            "seeds": sorted({r.seed for r in results}),
+            "cells": [asdict(c) for c in summarise(results)],
+            "cases": [
+                {k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} | {"label": run_label(r)}
+                for r in results
+            ],
+        }
+        readme, board = (self.out / name for name in FILES)
+        return atomic_write_many({readme: md, board: json_text(data).encode()})
+
+
+def plan_leaderboard(
+    results: Sequence[CaseResult], out: str | os.PathLike, source: str = "results/", *, out_name: str = "out"
+) -> LeaderboardPlan:
+    """Check what :meth:`LeaderboardPlan.write` needs before anything is rendered: ``ValueError``
+    for no results, :class:`~ioc_bench.paths.PathError` (its message starting with
+    ``out_name``) for an ``out``, or a file in it, that cannot be written (:mod:`ioc_bench.paths`'
+    checks)."""
+    if not results:
+        raise ValueError("no case results to summarise")
+    try:
+        folder = check_output_dir(out)
+        for name in FILES:
+            check_output_file(folder / name)
+    except PathError as exc:
+        raise PathError(f"{out_name}: {exc}") from None
+    return LeaderboardPlan(tuple(results), folder, source)
+
+
 def write_leaderboard(results: Sequence[CaseResult], out: str | os.PathLike, source: str = "results/") -> list[Path]:
     """Write ``README.md`` and ``leaderboard.json`` into ``out``; returns their paths.
 
-    Both are rendered before either is written, and written with
-    :func:`~ioc_bench.fileio.atomic_write_many`: an error leaves the old board whole.
-    ``leaderboard.json`` records the SHA-256 of the ``README.md`` written with it.
-    Raises ``ValueError`` for no results, or an ``out`` (or a file in it) that cannot be
-    written (:mod:`ioc_bench.paths`' checks), before anything is written.
+    Everything is checked first (:func:`plan_leaderboard`: no results, an ``out`` that
+    cannot be written raise ``ValueError`` before anything is written), then both files are
+    rendered and written together (:meth:`LeaderboardPlan.write`).
     """
-    if not results:
-        raise ValueError("no case results to summarise")
-    out = check_output_dir(out)
-    for name in FILES:
-        check_output_file(out / name)
-    md = markdown(results, source).encode()
-    data = {
-        "generated_by": f"ioc-bench leaderboard {source}",
-        "readme_sha256": hashlib.sha256(md).hexdigest(),
-        "versions": versions(),
-        "seeds": sorted({r.seed for r in results}),
-        "cells": [asdict(c) for c in summarise(results)],
-        "cases": [
-            {k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} | {"label": run_label(r)}
-            for r in results
-        ],
-    }
-    readme, board = (out / name for name in FILES)
-    return atomic_write_many({readme: md, board: json_text(data).encode()})
+    return plan_leaderboard(results, out, source).write()

@@ -26,7 +26,7 @@ import math
 import os
 import re
 import typing
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any
@@ -48,6 +48,7 @@ from ioc_bench.fileio import (
 from ioc_bench.ioc.algorithm import WeightRegion
 from ioc_bench.ioc.contract import MAX_STATUS, check_region
 from ioc_bench.ioc.registry import NAME_PATTERN, check_algorithm_name, config_overrides, make_algorithm
+from ioc_bench.paths import check_input_dir
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``).
@@ -432,6 +433,26 @@ def load_results(root: str | os.PathLike) -> list[CaseResult]:
     """Every case result under ``root``; any unreadable one, or one that is not the case its
     name says, raises :class:`ResultFileError`."""
     return [read_result(p, root) for p in result_files(root)]
+
+
+def select_results(root: str | os.PathLike, algorithms: Sequence[str] | None = None) -> list[CaseResult]:
+    """The results under the results directory ``root``, restricted to ``algorithms`` (default:
+    every one present): what the leaderboard and the figures are made from.
+
+    Raises ``ValueError`` (one line) for a folder that cannot be read
+    (:func:`~ioc_bench.paths.check_input_dir`), an unreadable result file
+    (:class:`ResultFileError`), no results (saying what the folder holds instead), or a
+    requested algorithm that is not in the results (listing those present).
+    """
+    check_input_dir(root, "results directory")
+    results = load_results(root)
+    if not results:
+        raise ValueError(no_results_message(root))
+    present = sorted({r.algorithm for r in results})
+    unknown = [a for a in algorithms or () if a not in present]
+    if unknown:
+        raise ValueError(f"algorithm(s) not in the results: {', '.join(unknown)}; present: {', '.join(present)}")
+    return [r for r in results if not algorithms or r.algorithm in algorithms]
 
 
 def stored_result(root: str | os.PathLike, spec: CaseSpec) -> CaseResult | None:

@@ -5,16 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.cli.common import (
-    UsageError,
-    add_json_flag,
-    input_dir,
-    output_dir,
-    output_file,
-    path_arg,
-    print_json,
-    usage_errors,
-)
+from ioc_bench.cli.common import add_json_flag, path_arg, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -28,18 +19,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.leaderboard import FILES, summarise, write_leaderboard
-    from ioc_bench.bench.results import load_results, no_results_message
+    from ioc_bench.bench.leaderboard import plan_leaderboard, summarise
+    from ioc_bench.bench.results import select_results
 
-    input_dir(args.results)
-    with usage_errors():
-        results = load_results(args.results)
-    if not results:
-        raise UsageError(no_results_message(args.results))
-    output_dir(args.out)
-    for name in FILES:
-        output_file(args.out / name)
-    paths = write_leaderboard(results, args.out, source=str(args.results))
+    with usage_errors():  # every result and the output checked here, so that errors while writing stay real errors
+        results = select_results(args.results)
+        board = plan_leaderboard(results, args.out, source=str(args.results), out_name="--out")
+    paths = board.write()
     if args.json:
         print_json({"files": [str(p) for p in paths], "cells": [c.__dict__ for c in summarise(results)]})
     else:
