@@ -71,6 +71,8 @@ def test_ioc_json(capsys, tmp_path, ideal_nominal_cached):
     assert report["weight_error"] < 0.01 and report["n_solves"] > 0
     saved = json.loads(out.read_text())
     assert saved["weight_error"] == report["weight_error"] and len(saved["history"]) == report["iterations"]
+    assert {k: report[k] for k in saved} == saved  # everything the result file holds: transfer, coverage, region
+    assert report["transfer"]["speed"] == 0.34 and report["covered"] is not None and report["uncertainty"]
     assert out.with_suffix(".png").is_file()
 
 
