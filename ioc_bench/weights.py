@@ -36,15 +36,31 @@ WEIGHT_SETS: dict[str, tuple[float, ...]] = weight_sets(COST_FEATURES)
 WeightSpec = str | Sequence[float] | Mapping[str, float] | np.ndarray
 
 
+def weight_fault(weights: np.ndarray) -> str:
+    """What makes numbers no weight vector: ``"non-finite"``, ``"negative"`` or ``"all-zero"``
+    (the first that applies), or ``""`` for valid weights."""
+    if not np.all(np.isfinite(weights)):
+        return "non-finite"
+    if np.any(weights < 0):
+        return "negative"
+    if not np.any(weights > 0):
+        return "all-zero"
+    return ""
+
+
+_FAULT_MESSAGES = {
+    "non-finite": "weights must be finite numbers, got {}",
+    "negative": "weights must be non-negative, got {}",
+    "all-zero": "weights must not all be zero",
+}
+
+
 def normalize(values: Sequence[float]) -> np.ndarray:
-    """Validate weights and scale them to unit 2-norm."""
+    """Validate weights (:func:`weight_fault`) and scale them to unit 2-norm."""
     arr = _numbers(values)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"weights must be finite numbers, got {arr.tolist()}")
-    if np.any(arr < 0):
-        raise ValueError(f"weights must be non-negative, got {arr.tolist()}")
-    if not np.any(arr > 0):
-        raise ValueError("weights must not all be zero")
+    fault = weight_fault(arr)
+    if fault:
+        raise ValueError(_FAULT_MESSAGES[fault].format(arr.tolist()))
     with np.errstate(over="ignore", under="ignore"):
         norm = float(np.linalg.norm(arr))
     if not np.isfinite(norm) or norm < np.finfo(float).tiny:  # huge or subnormal: scale first

@@ -19,6 +19,7 @@ import numpy as np
 
 from ioc_bench.checks import shown
 from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
+from ioc_bench.weights import weight_fault
 
 #: Longest status text kept (a status is a word or ``failed: <reason>``).
 MAX_STATUS = 500
@@ -48,12 +49,11 @@ def _result(result: Any, n: int) -> None:
     if not isinstance(result, IOCResult):
         raise ContractError(f"fit() returned {type(result).__name__}, not IOCResult")
     w = _numbers(result.weights, n, "weights")
-    if not np.all(np.isfinite(w)):
+    fault = weight_fault(w)
+    if fault == "non-finite":
         raise ContractError(f"returned non-finite weights {shown(w.tolist())} (status {shown(result.status)})")
-    if np.any(w < 0):
-        raise ContractError(f"returned negative weights {shown(w.tolist())}")
-    if not np.any(w > 0):
-        raise ContractError("returned all-zero weights")
+    if fault:
+        raise ContractError(f"returned {fault} weights" + ("" if fault == "all-zero" else f" {shown(w.tolist())}"))
     _text(result.status, "status")
     if not isinstance(result.history, (tuple, list)):
         raise ContractError(f"history must be a tuple of IterationRecord, got {type(result.history).__name__}")
