@@ -1,7 +1,7 @@
 """Result files: one JSON per case, named by the case, written atomically.
 
 Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__model-<model>][__cfg<hash>].json``
-(the walker's cases name no model: their files are as before models).
+(the walker, the default model, is named by no model part).
 The config is part of a case's identity in its canonical form (the fields that differ
 from the algorithm's defaults, :func:`~ioc_bench.ioc.registry.canonical_config`): a
 config that only spells out defaults names the same file as no config at all.
