@@ -37,7 +37,7 @@ SWING_CONDIM = 1
 
 
 def build_model(params: WalkerParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
-    """The compiled MuJoCo model of the walker for ``params`` (default: SPEC section 1).
+    """The compiled MuJoCo model of the walker for ``params`` (default: ``docs/spec.md``, "Segment parameters").
 
     ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
     """

@@ -133,7 +133,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
 
     The previous torque is the last action as applied (clipped), 0 after a reset; it is
     observed because the *reward_dtau* term depends on it. The first step after a reset has
-    *reward_dtau* = 0 whatever its torque (the SPEC's torque-rate sum has no term before
+    *reward_dtau* = 0 whatever its torque (the torque-rate feature's sum has no term before
     the first knot).
 
     ## Rewards
@@ -184,8 +184,8 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     torso angle leaves `healthy_angle_range` (default `(-1, 1)` rad), when
     `terminate_when_unhealthy` is True.
     ### Truncation
-    1000 steps (10 time units: about 12 of the earlier short steps, 7-8 of the benchmark's
-    current ones of 1.2-1.4) when made with `gymnasium.make` (`max_episode_steps` overrides it).
+    1000 steps (10 time units: 7-8 of the benchmark's steps of 1.2-1.4) when made with
+    `gymnasium.make` (`max_episode_steps` overrides it).
 
     ## State
     `get_state()` returns a `WalkerState`: MuJoCo's integration state (time, `qpos`,
@@ -202,7 +202,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
 
     | Parameter                  | Type              | Default       | Description                                  |
     |----------------------------|-------------------|---------------|----------------------------------------------|
-    | `params`                   | `WalkerParams`    | nominal       | the walker model (SPEC section 1)            |
+    | `params`                   | `WalkerParams`    | nominal       | the walker model (`docs/spec.md`)            |
     | `weights`                  | weight spec       | `None`        | unit-normalised; None: see Rewards           |
     | `demonstration`            | `Demonstration`, path or None | `None` | start every episode from its knot 0     |
     | `forward_reward_weight`    | `float`           | `1.0`         | weight of *reward_forward*                   |

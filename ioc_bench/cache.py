@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from ioc_bench.fileio import check_output_dir
+from ioc_bench.paths import check_output_dir
 
 
 def cache_dir() -> Path:

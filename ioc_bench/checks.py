@@ -32,7 +32,12 @@ class TypeMismatch(ValueError):
 
 
 def shown(value: Any, limit: int = 60) -> str:
-    """``repr(value)`` cut to at most ``limit`` characters, safe for huge integers and containers."""
+    """``repr(value)`` in about ``limit`` characters, safe for huge integers and containers: the
+    one way a value from outside is shown in a message. Text keeps its start and its end
+    (:func:`short_word`: a deep path keeps the names it ends with); other values are cut at
+    the end."""
+    if isinstance(value, str):
+        return repr(short_word(value, limit))
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 4 * limit:
         return f"an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits"
     if isinstance(value, (list, tuple, dict, set, frozenset)) and len(value) > limit:

@@ -22,9 +22,10 @@ import numpy as np
 
 from ioc_bench.checks import TypeMismatch, coerce, load_json, shown
 from ioc_bench.features import COST_FEATURES, model_features
-from ioc_bench.fileio import PathError, atomic_write, check_output_file, read_bytes
+from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitParams
+from ioc_bench.paths import PathError, check_output_file, read_bytes
 from ioc_bench.task import Task
 from ioc_bench.trajectory import Trajectory
 from ioc_bench.trajopt.gait_figures import GaitFigures

@@ -33,7 +33,7 @@ PAPER_GRAVITY = 9.81
 TORQUE_UNIT = PAPER_GRAVITY
 #: Seconds per model time unit (sqrt(L / g)).
 TIME_UNIT = PAPER_GRAVITY**-0.5
-#: Target step length of the ``steplen`` distractor (SPEC section 2), metres (= leg lengths).
+#: Target step length of the ``steplen`` distractor (``docs/spec.md``, "Distractor features"), metres (= leg lengths).
 STEPLEN_TARGET = 0.3
 #: Scale of the torque-rate feature, "due to unit differences" (the paper).
 DTAU_SCALE = 0.001
@@ -153,27 +153,27 @@ FEATURES: dict[str, Feature] = {
         Feature("footheight", "mean swing-foot height over the knots", "m", lambda f: sum(f.foot_z) / len(f.foot_z)),
     )
 }
-#: The three effort features that generate the demonstrations, in weight order.
-COST_FEATURES: tuple[str, ...] = ("hip", "knee", "dtau")
-#: Distractors: offered to the IOC in the distractor condition, true weight 0.
-DISTRACTORS: tuple[str, ...] = ("torso", "steplen", "footheight")
-#: The walker's features: what the benchmark's optimizer and IOC weigh.
-ALL_FEATURES: tuple[str, ...] = COST_FEATURES + DISTRACTORS
-#: Every model's effort features in weight order: the walker's with the ankle torque
-#: (a model with ankles) before the torque rate.
-EFFORT_FEATURES: tuple[str, ...] = ("hip", "knee", "ankle", "dtau")
-#: Every feature of any model, in the order a model's features take.
-MODEL_FEATURES: tuple[str, ...] = EFFORT_FEATURES + DISTRACTORS
 
 
 def model_features(model: GaitModel) -> tuple[str, ...]:
-    """The features a model has (those whose actuator group it lacks are left out)."""
-    return tuple(n for n in MODEL_FEATURES if FEATURES[n].requires in (None, *model.actuator_groups))
+    """The features a model has, in weight order: every feature of :data:`FEATURES` but those
+    whose actuator group the model lacks."""
+    return tuple(n for n, f in FEATURES.items() if f.requires in (None, *model.actuator_groups))
 
 
 def cost_features(model: GaitModel) -> tuple[str, ...]:
-    """The effort features a model's demonstrations are made with (its :data:`EFFORT_FEATURES`)."""
-    return tuple(n for n in model_features(model) if n in EFFORT_FEATURES)
+    """The effort features a model's demonstrations are made with, in weight order: its
+    features with a per-knot increment (the others are distractors)."""
+    return tuple(n for n in model_features(model) if FEATURES[n].increment is not None)
+
+
+#: The walker's effort features, in weight order: ``cost_features(WALKER)``.
+COST_FEATURES: tuple[str, ...] = cost_features(WALKER)
+#: The walker's features: what the benchmark's optimizer and IOC weigh (``model_features(WALKER)``).
+ALL_FEATURES: tuple[str, ...] = model_features(WALKER)
+#: Distractors: the walker's features that are no effort; offered to the IOC in the distractor
+#: condition, true weight 0.
+DISTRACTORS: tuple[str, ...] = tuple(f for f in ALL_FEATURES if f not in COST_FEATURES)
 
 
 def check_names(names: Sequence[str]) -> tuple[str, ...]:

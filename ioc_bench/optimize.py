@@ -56,7 +56,7 @@ def optimize_gait(
     Args:
         weights: a name of ``WEIGHT_SETS``, numbers over (hip, knee, dtau) or over all the
             model's features, or a mapping from feature name to weight. Normalised to unit norm.
-        params: the model's parameters (default: the model's nominal ones, SPEC section 1).
+        params: the model's parameters (default: the model's nominal ones, ``docs/spec.md``, "Segment parameters").
         task: the task (default: speed 0.27, step length free).
         starts: multi-start size: start 0 is the rough periodic guess, the others perturb
             it with noise drawn from ``seed``. Ignored when ``init`` is given.

@@ -14,10 +14,10 @@ from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.optimize import optimize_gait
 from ioc_bench.task import Task
-from ioc_bench.weights import WEIGHT_SETS
+from ioc_bench.weights import WEIGHT_SETS, penalised_feature
 
-#: Which feature each weight set penalises.
-PENALISES = {"penalize-hip": "hip", "penalize-knee": "knee", "penalize-dtau": "dtau"}
+#: Which feature each of the walker's weight sets penalises (``penalised_feature`` of each).
+PENALISES = {name: penalised_feature(name) for name in WEIGHT_SETS if penalised_feature(name)}
 
 
 FeatureValues = Mapping[str, Mapping[str, float]]

@@ -1,4 +1,4 @@
-"""The walking task: what the step must achieve (SPEC section 2)."""
+"""The walking task: what the step must achieve (``docs/spec.md``, "The task")."""
 
 from __future__ import annotations
 

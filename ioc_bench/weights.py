@@ -1,4 +1,4 @@
-"""Cost weights: the named sets of SPEC section 2 and the parsing every entry point shares."""
+"""Cost weights: the named sets (``docs/spec.md``, "Weight sets") and the parsing every entry point shares."""
 
 from __future__ import annotations
 
@@ -8,15 +8,10 @@ import numpy as np
 
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 
-#: The paper's four weight sets over (hip, knee, dtau), before normalisation.
-WEIGHT_SETS: dict[str, tuple[float, float, float]] = {
-    "nominal": (1.0, 1.0, 1.0),
-    "penalize-hip": (10.0, 1.0, 1.0),
-    "penalize-knee": (1.0, 10.0, 1.0),
-    "penalize-dtau": (1.0, 1.0, 10.0),
-}
 #: The factor a ``penalize-<feature>`` set puts on its feature (the others 1).
 PENALTY = 10.0
+#: The name of the set that penalises a feature is this prefix and the feature's name.
+PENALIZE_PREFIX = "penalize-"
 
 
 def weight_sets(cost: Sequence[str] = COST_FEATURES) -> dict[str, tuple[float, ...]]:
@@ -24,22 +19,48 @@ def weight_sets(cost: Sequence[str] = COST_FEATURES) -> dict[str, tuple[float, .
     ``penalize-<feature>`` each (10 on it, 1 elsewhere); the paper's four for the walker."""
     sets = {"nominal": tuple(1.0 for _ in cost)}
     for f in cost:
-        sets[f"penalize-{f}"] = tuple(PENALTY if g == f else 1.0 for g in cost)
+        sets[PENALIZE_PREFIX + f] = tuple(PENALTY if g == f else 1.0 for g in cost)
     return sets
+
+
+def penalised_feature(name: str, features: Sequence[str] = COST_FEATURES) -> str | None:
+    """The feature of ``features`` that the weight set ``name`` penalises (``penalize-<feature>``
+    of :func:`weight_sets`), or None if the set penalises none of them."""
+    return next((f for f in features if name == PENALIZE_PREFIX + f), None)
+
+
+#: The paper's four weight sets over the walker's (hip, knee, dtau), before normalisation.
+WEIGHT_SETS: dict[str, tuple[float, ...]] = weight_sets(COST_FEATURES)
 
 
 WeightSpec = str | Sequence[float] | Mapping[str, float] | np.ndarray
 
 
+def weight_fault(weights: np.ndarray) -> str:
+    """What makes numbers no weight vector: ``"non-finite"``, ``"negative"`` or ``"all-zero"``
+    (the first that applies), or ``""`` for valid weights."""
+    if not np.all(np.isfinite(weights)):
+        return "non-finite"
+    if np.any(weights < 0):
+        return "negative"
+    if not np.any(weights > 0):
+        return "all-zero"
+    return ""
+
+
+_FAULT_MESSAGES = {
+    "non-finite": "weights must be finite numbers, got {}",
+    "negative": "weights must be non-negative, got {}",
+    "all-zero": "weights must not all be zero",
+}
+
+
 def normalize(values: Sequence[float]) -> np.ndarray:
-    """Validate weights and scale them to unit 2-norm."""
+    """Validate weights (:func:`weight_fault`) and scale them to unit 2-norm."""
     arr = _numbers(values)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"weights must be finite numbers, got {arr.tolist()}")
-    if np.any(arr < 0):
-        raise ValueError(f"weights must be non-negative, got {arr.tolist()}")
-    if not np.any(arr > 0):
-        raise ValueError("weights must not all be zero")
+    fault = weight_fault(arr)
+    if fault:
+        raise ValueError(_FAULT_MESSAGES[fault].format(arr.tolist()))
     with np.errstate(over="ignore", under="ignore"):
         norm = float(np.linalg.norm(arr))
     if not np.isfinite(norm) or norm < np.finfo(float).tiny:  # huge or subnormal: scale first

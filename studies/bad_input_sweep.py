@@ -1,4 +1,4 @@
-"""Bad input, swept: a broad sample of hostile inputs per class of issue 24, counted.
+"""Bad input, swept: a broad sample of hostile inputs per class of input, counted.
 
     python studies/bad_input_sweep.py            # ~1 min; prints a table per class and every miss
     python studies/bad_input_sweep.py --verbose  # also every input with its message

@@ -1,6 +1,6 @@
 """Gait-regime study: a step-length sweep of the forward problem (docs/gait_regime.md).
 
-For every lift-off rule (the paper's zero-velocity lift-off, or SPEC's relaxed one), every
+For every lift-off rule (the paper's zero-velocity lift-off, or the relaxed one), every
 weighting (the nominal weights on dimensionless features, or on features in "g-units",
 i.e. a 1 m, 1 kg walker under g = 9.81), both speeds and step lengths 0.1 .. 0.9 leg
 lengths: the best of ``--starts`` starts with the step length held; its cost, features,

@@ -83,13 +83,13 @@ def solve(step, weights, starts: int, verify: bool) -> dict:
 
 
 #: Probes beside the grid: (walker, label, weights, starts). "default" is the benchmark's
-#: walker (SPEC section 1), not scaled to the person, as in the issue's own measurements.
+#: walker (docs/spec.md, "Segment parameters"), not scaled to the person.
 PROBES = (
     ("default", "nominal", (1.0, 1.0, 1.0), 2),
     ("default", "1,4,0", (1.0, 4.0, 0.0), 2),
-    ("default", "issue 0.30,0.95,0.05", (0.30, 0.95, 0.05), 4),
+    ("default", "0.30,0.95,0.05", (0.30, 0.95, 0.05), 4),
     ("default", "0,0,5", (0.0, 0.0, 5.0), 2),
-    ("subject", "issue 0.30,0.95,0.05", (0.30, 0.95, 0.05), 4),
+    ("subject", "0.30,0.95,0.05", (0.30, 0.95, 0.05), 4),
     ("subject", "1,4,0", (1.0, 4.0, 0.0), 4),
     ("subject", "0,0,5", (0.0, 0.0, 5.0), 4),
     ("subject", "1,0,4", (1.0, 0.0, 4.0), 4),

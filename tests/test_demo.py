@@ -57,7 +57,7 @@ def test_missing_and_garbage_files(tmp_path):
         Demonstration.load(garbage)
 
 
-# -- every malformed file is a DemonstrationFileError (issue 12) -----------------------------
+# -- every malformed file is a DemonstrationFileError --------------------------------------
 
 
 def _meta(arrays):

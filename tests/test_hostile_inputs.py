@@ -1,4 +1,4 @@
-"""Hypothesis strategies for hostile inputs (issue 24), and the properties every reader and
+"""Hypothesis strategies for hostile inputs, and the properties every reader and
 writer must hold for them.
 
 Strategies:
@@ -42,7 +42,7 @@ from ioc_bench.bench.results import (
 )
 from ioc_bench.checks import MAX_JSON_DEPTH, load_json
 from ioc_bench.cli import main
-from ioc_bench.fileio import (
+from ioc_bench.paths import (
     PathError,
     check_input_file,
     check_inside,
@@ -249,7 +249,7 @@ def test_property_a_spoilt_record_is_refused_with_one_line_naming_the_file(
 @FIXTURES
 @given(a=case_identities(), b=case_identities())
 def test_property_a_record_under_another_case_name_is_refused(tmp_path_factory, make_result, a, b):
-    """(Issue 24: another algorithm's or seed's file was taken as done, and counted twice.)"""
+    """A file holding another algorithm's or seed's case is not taken as done, nor counted twice."""
     spec_a, spec_b = CaseSpec(**a), CaseSpec(**b)
     assume(spec_a.key != spec_b.key)
     root = tmp_path_factory.mktemp("swapped")
@@ -363,7 +363,7 @@ def test_property_every_command_refuses_a_hostile_path_before_any_work(
     kind=st.sampled_from([float, np.float16, np.float32, np.float64, np.longdouble]),
 )
 def test_property_task_takes_every_positive_finite_real(speed, kind):
-    """(Issue 24: ``Task(np.float32(0.27))`` was refused with a contradictory message.)"""
+    """Every positive finite real is a speed, NumPy scalars included (``Task(np.float32(0.27))`` is 0.27)."""
     value = kind(speed)
     assume(0 < float(value) < math.inf)
     task = Task(value)

@@ -101,7 +101,8 @@ class ClosedLoopResult:
     @property
     def passed(self) -> bool:
         """Walked every step with a feedback share under :attr:`share_limit` ("followed" in
-        :meth:`to_dict`). A stability figure: a valid gait may miss it (issue 23)."""
+        :meth:`to_dict`). A stability figure, not the verdict: a valid gait may miss it (the
+        verdict is the physical checks', :mod:`envs.checks.physics_checks`)."""
         return self.steps_walked >= self.steps_requested and self.feedback_share < self.share_limit
 
     def to_dict(self) -> dict[str, Any]:

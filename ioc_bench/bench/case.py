@@ -41,8 +41,8 @@ from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import (
     AlgorithmError,
     canonical_config,
+    check_algorithm_name,
     check_config,
-    check_name,
     get_algorithm,
     make_algorithm,
 )
@@ -87,7 +87,7 @@ class CaseSpec:
     true_weights: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        check_name(self.algorithm)
+        check_algorithm_name(self.algorithm)
         cond = self.condition if isinstance(self.condition, Condition) else get_condition(self.condition)
         object.__setattr__(self, "condition", cond.name)
         object.__setattr__(self, "_condition", cond)
@@ -202,9 +202,9 @@ class CaseResult:
             or ``failed`` (then ``reason`` says why).
         weights: estimated weights over ``features``, unit norm (NaN if failed).
         true_weights: the truth over ``features`` (distractors 0), unit norm.
-        weight_error: mean absolute weight difference (SPEC section 5).
+        weight_error: mean absolute weight difference (``docs/spec.md``, "Metrics").
         trajectory_error: the paper's trajectory error (segment angles and angular
-            velocities, SPEC section 5) of the estimated weights' optimal step, re-solved in
+            velocities, ``docs/spec.md``, "Metrics") of the estimated weights' optimal step, re-solved in
             the observation's basin for scoring.
         found_trajectory_error: the paper's own reading: the trajectory error of the step
             found during the IOC for the output weights (its chosen iteration); None for an

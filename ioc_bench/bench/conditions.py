@@ -1,4 +1,4 @@
-"""Robustness conditions (SPEC section 4) as data: how what the IOC sees differs from the truth.
+"""Robustness conditions (``docs/spec.md``, "Conditions") as data: how what the IOC sees differs from the truth.
 
 A condition says at which speed the demonstration is made, and how the IOC's view differs:
 noise on the observed step (and whether torques are measured at all), a different model

@@ -23,9 +23,10 @@ import numpy as np
 from ioc_bench.cache import cache_dir
 from ioc_bench.demo import Demonstration, DemonstrationFileError
 from ioc_bench.features import cost_features
-from ioc_bench.fileio import atomic_write, read_bytes
+from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
+from ioc_bench.paths import read_bytes
 from ioc_bench.task import Task
 from ioc_bench.trajopt.solution import SolverReport, StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS

@@ -33,9 +33,10 @@ from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
 from ioc_bench.features import cost_features
-from ioc_bench.fileio import atomic_write_many, check_output_dir, check_output_file, json_text
+from ioc_bench.fileio import atomic_write_many, json_text
 from ioc_bench.model.catalogue import MODELS, get_model
-from ioc_bench.weights import WEIGHT_SETS, weight_sets
+from ioc_bench.paths import PathError, check_output_dir, check_output_file
+from ioc_bench.weights import WEIGHT_SETS, penalised_feature, weight_sets
 
 #: The files a leaderboard is written as, in its output folder.
 FILES = ("README.md", "leaderboard.json")
@@ -92,10 +93,8 @@ def _mean(values: Sequence[float]) -> float:
 
 def penalised_is_largest(result: CaseResult) -> bool | None:
     """For a penalize-* case: is the penalised feature's estimated weight the largest?"""
-    if not result.weight_set.startswith("penalize-") or result.failed:
-        return None
-    feature = result.weight_set.removeprefix("penalize-")
-    if feature not in result.features:
+    feature = penalised_feature(result.weight_set, result.features)
+    if feature is None or result.failed:
         return None
     return int(np.argmax(result.weights)) == result.features.index(feature)
 
@@ -242,7 +241,8 @@ def _synthetic_sections(results: Sequence[CaseResult]) -> list[str]:
         "**Method.** Each case runs one IOC algorithm on one demonstrated step: the best of 15 starts of the "
         "trajectory optimizer for the true weights (multi-start seed = the case's seed), verified as a local "
         "minimum, observed as the condition allows (noise, torques unmeasured, wrong model, wrong task, "
-        "distractor features; SPEC section 4; the observation holds positions, velocities and torques only). "
+        "distractor features; docs/spec.md, *Conditions*; the observation holds positions, velocities and torques "
+        "only). "
         "Weight error: mean |estimated - true| of the unit-norm weights over the features the IOC weighed. "
         "Trajectory error (the paper's): sum over knots and segments of squared segment-angle and "
         "angular-velocity differences to the observed step, of the estimated weights' optimal step re-solved in "
@@ -452,40 +452,40 @@ def _cell_text(text: str) -> str:
     return " ".join(text.split()).replace("|", "\\|")
 
 
-def write_leaderboard(results: Sequence[Record], out: str | os.PathLike, source: str = "results/") -> list[Path]:
-    """Write ``README.md`` and ``leaderboard.json`` into ``out``; returns their paths.
+@dataclass(frozen=True)
+class LeaderboardPlan:
+    """A leaderboard ready to write: its results and its output checked (:func:`plan_leaderboard`)."""
 
-    Both are rendered before either is written, and written with
-    :func:`~ioc_bench.fileio.atomic_write_many`: an error leaves the old board whole.
-    ``leaderboard.json`` records the SHA-256 of the ``README.md`` written with it.
-    Raises ``ValueError`` for no results, or an ``out`` (or a file in it) that cannot be
-    written (:mod:`ioc_bench.fileio`'s checks), before anything is written.
-    """
-    if not results:
-        raise ValueError("no case results to summarise")
-    out = check_output_dir(out)
-    for name in FILES:
-        check_output_file(out / name)
-    md = markdown(results, source).encode()
-    synthetic, human = split_tracks(results)
-    data = {
-        "generated_by": f"ioc-bench leaderboard {source}",
-        "readme_sha256": hashlib.sha256(md).hexdigest(),
-        "versions": versions(),
-        "seeds": sorted({r.seed for r in results}),
-        "cells": [asdict(c) for c in summarise(synthetic)],
-        "cases": [
-            {k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} | {"label": run_label(r)}
-            for r in synthetic
-        ],
-    }
-    if human:
-        from ioc_bench.human.summary import summarize, weight_spread
+    results: tuple[Record, ...]
+    out: Path
+    source: str = "results/"
 
-        data["human"] = {"rows": summarize(human), "weight_spread": weight_spread(human)}
-        data["human_cases"] = [_without_angles(r.to_dict()) for r in human]
-    readme, board = (out / name for name in FILES)
-    return atomic_write_many({readme: md, board: json_text(data).encode()})
+    def write(self) -> list[Path]:
+        """Render ``README.md`` and ``leaderboard.json`` in full, then write both with
+        :func:`~ioc_bench.fileio.atomic_write_many` (an error leaves a board already there
+        whole); returns their paths. ``leaderboard.json`` records the SHA-256 of the
+        ``README.md`` written with it."""
+        results, source = self.results, self.source
+        md = markdown(results, source).encode()
+        synthetic, human = split_tracks(results)
+        data = {
+            "generated_by": f"ioc-bench leaderboard {source}",
+            "readme_sha256": hashlib.sha256(md).hexdigest(),
+            "versions": versions(),
+            "seeds": sorted({r.seed for r in results}),
+            "cells": [asdict(c) for c in summarise(synthetic)],
+            "cases": [
+                {k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} | {"label": run_label(r)}
+                for r in synthetic
+            ],
+        }
+        if human:
+            from ioc_bench.human.summary import summarize, weight_spread
+
+            data["human"] = {"rows": summarize(human), "weight_spread": weight_spread(human)}
+            data["human_cases"] = [_without_angles(r.to_dict()) for r in human]
+        readme, board = (self.out / name for name in FILES)
+        return atomic_write_many({readme: md, board: json_text(data).encode()})
 
 
 def _without_angles(record: dict) -> dict:
@@ -493,3 +493,31 @@ def _without_angles(record: dict) -> dict:
         score.pop("angles", None)
     record.pop("oracle", None)
     return record
+
+
+def plan_leaderboard(
+    results: Sequence[Record], out: str | os.PathLike, source: str = "results/", *, out_name: str = "out"
+) -> LeaderboardPlan:
+    """Check what :meth:`LeaderboardPlan.write` needs before anything is rendered: ``ValueError``
+    for no results, :class:`~ioc_bench.paths.PathError` (its message starting with
+    ``out_name``) for an ``out``, or a file in it, that cannot be written (:mod:`ioc_bench.paths`'
+    checks)."""
+    if not results:
+        raise ValueError("no case results to summarise")
+    try:
+        folder = check_output_dir(out)
+        for name in FILES:
+            check_output_file(folder / name)
+    except PathError as exc:
+        raise PathError(f"{out_name}: {exc}") from None
+    return LeaderboardPlan(tuple(results), folder, source)
+
+
+def write_leaderboard(results: Sequence[Record], out: str | os.PathLike, source: str = "results/") -> list[Path]:
+    """Write ``README.md`` and ``leaderboard.json`` into ``out``; returns their paths.
+
+    Everything is checked first (:func:`plan_leaderboard`: no results, an ``out`` that
+    cannot be written raise ``ValueError`` before anything is written), then both files are
+    rendered and written together (:meth:`LeaderboardPlan.write`).
+    """
+    return plan_leaderboard(results, out, source).write()

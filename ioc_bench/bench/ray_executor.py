@@ -33,8 +33,7 @@ _PROBE = (
     "print(int(ray.cluster_resources().get('CPU', 0)))\n"
 )
 _AUTH_HINT = (
-    "if the cluster uses token authentication, export RAY_AUTH_MODE=token and its RAY_AUTH_TOKEN "
-    "(see 'Running on a Ray cluster' in the README)"
+    "if the cluster uses token authentication, export RAY_AUTH_MODE=token and its RAY_AUTH_TOKEN (see docs/cluster.md)"
 )
 
 

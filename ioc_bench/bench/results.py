@@ -1,7 +1,7 @@
 """Result files: one JSON per case, named by the case, written atomically.
 
 Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__model-<model>][__cfg<hash>].json``
-(the walker's cases name no model: their files are as before models).
+(the walker, the default model, is named by no model part).
 The config is part of a case's identity in its canonical form (the fields that differ
 from the algorithm's defaults, :func:`~ioc_bench.ioc.registry.canonical_config`): a
 config that only spells out defaults names the same file as no config at all.
@@ -26,7 +26,7 @@ import math
 import os
 import re
 import typing
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import MISSING, fields
 from pathlib import Path
 from typing import Any
@@ -37,18 +37,11 @@ from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
 from ioc_bench.bench.protocol import Case, Record, Track
 from ioc_bench.checks import TypeMismatch, check_seed, coerce, load_json, one_line, shown
 from ioc_bench.features import FEATURES
-from ioc_bench.fileio import (
-    PathError,
-    atomic_write_json,
-    check_inside,
-    check_path_text,
-    read_bytes,
-    remove_temporaries,
-    to_jsonable,
-)
+from ioc_bench.fileio import atomic_write_json, remove_temporaries, to_jsonable
 from ioc_bench.ioc.algorithm import WeightRegion
 from ioc_bench.ioc.contract import MAX_STATUS, check_region
-from ioc_bench.ioc.registry import NAME_PATTERN, check_name, config_overrides, make_algorithm
+from ioc_bench.ioc.registry import NAME_PATTERN, check_algorithm_name, config_overrides, make_algorithm
+from ioc_bench.paths import PathError, check_input_dir, check_inside, check_path_text, read_bytes
 from ioc_bench.processes import hold_across_fork
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
@@ -269,7 +262,7 @@ def check_result(result: CaseResult) -> None:
     a case may lack them), a sane solve count, a chosen iteration inside the history, a
     short status.
     """
-    check_name(result.algorithm)
+    check_algorithm_name(result.algorithm)
     check_seed(result.seed)
     names = result.features
     if len(set(names)) != len(names) or not set(names) <= set(FEATURES):
@@ -493,6 +486,26 @@ def load_results(root: str | os.PathLike) -> list[Record]:
     """Every case result under ``root``; any unreadable one, or one that is not the case its
     name says, raises :class:`ResultFileError`."""
     return [read_result(p, root) for p in result_files(root)]
+
+
+def select_results(root: str | os.PathLike, algorithms: Sequence[str] | None = None) -> list[Record]:
+    """The results under the results directory ``root``, restricted to ``algorithms`` (default:
+    every one present): what the leaderboard and the figures are made from.
+
+    Raises ``ValueError`` (one line) for a folder that cannot be read
+    (:func:`~ioc_bench.paths.check_input_dir`), an unreadable result file
+    (:class:`ResultFileError`), no results (saying what the folder holds instead), or a
+    requested algorithm that is not in the results (listing those present).
+    """
+    check_input_dir(root, "results directory")
+    results = load_results(root)
+    if not results:
+        raise ValueError(no_results_message(root))
+    present = sorted({r.algorithm for r in results})
+    unknown = [a for a in algorithms or () if a not in present]
+    if unknown:
+        raise ValueError(f"algorithm(s) not in the results: {', '.join(unknown)}; present: {', '.join(present)}")
+    return [r for r in results if not algorithms or r.algorithm in algorithms]
 
 
 def stored_result(root: str | os.PathLike, spec: Case) -> Record | None:

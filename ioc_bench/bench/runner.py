@@ -40,8 +40,8 @@ from ioc_bench.bench.results import (
     write_result,
 )
 from ioc_bench.cache import check_cache
-from ioc_bench.fileio import check_output_dir
 from ioc_bench.ioc.registry import get_algorithm, make_algorithm
+from ioc_bench.paths import check_output_dir
 
 OnCase = Callable[[Case, Record], None]
 

@@ -1,4 +1,4 @@
-"""Scores of an IOC result (SPEC section 5); the trajectory error is ``ioc_bench.metrics``."""
+"""Scores of an IOC result (``docs/spec.md``, "Metrics"); the trajectory error is ``ioc_bench.metrics``."""
 
 from __future__ import annotations
 

@@ -58,7 +58,7 @@ class Suite:
         ]
 
 
-#: The paper's conditions (SPEC section 4), and the torque-free reading of its noise.
+#: The paper's conditions (``docs/spec.md``, "Conditions"), and the torque-free reading of its noise.
 PAPER_CONDITIONS = ("ideal", "ideal-fast", "noise", "noise-kinematics", "mass", "speed", "distractor")
 #: The paper's further work: several trials of one subject (both speeds) for one cost.
 MULTI_TRIAL_CONDITIONS = ("multi-speed", "multi-speed-noise")

@@ -20,7 +20,7 @@ from ioc_bench.cli.common import UsageError, fail, is_run_fault
 COMMANDS: tuple[str, ...] = (
     "gait",
     "table1",
-    "speed",
+    "solver_timing",
     "replay",
     "algorithms",
     "ioc",

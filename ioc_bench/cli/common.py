@@ -18,7 +18,8 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from ioc_bench.checks import load_json, one_line
-from ioc_bench.fileio import check_path_text, to_jsonable
+from ioc_bench.fileio import to_jsonable
+from ioc_bench.paths import check_path_text
 
 
 class UsageError(Exception):
@@ -38,7 +39,7 @@ def is_run_fault(exc: BaseException) -> bool:
     process that died. Anything else is a bug and keeps its traceback."""
     from ioc_bench.bench.results import ResultFileError
     from ioc_bench.demo import DemonstrationFileError
-    from ioc_bench.fileio import PathError
+    from ioc_bench.paths import PathError
     from ioc_bench.trajopt.multistart import WorkerDied
 
     return isinstance(exc, (OSError, ResultFileError, DemonstrationFileError, PathError, WorkerDied))
@@ -93,7 +94,7 @@ def usage_errors(prefix: str = "") -> Iterator[None]:
 
 def output_file(path: Path, what: str = "--out") -> Path:
     """``path`` if a file can be written there, else :class:`UsageError` (checked before the work)."""
-    from ioc_bench.fileio import check_output_file
+    from ioc_bench.paths import check_output_file
 
     with usage_errors(f"{what}: "):
         return check_output_file(path)
@@ -101,7 +102,7 @@ def output_file(path: Path, what: str = "--out") -> Path:
 
 def output_dir(path: Path, what: str = "--out") -> Path:
     """``path`` if it is or can be made a writable directory, else :class:`UsageError`."""
-    from ioc_bench.fileio import check_output_dir
+    from ioc_bench.paths import check_output_dir
 
     with usage_errors(f"{what}: "):
         return check_output_dir(path)
@@ -109,7 +110,7 @@ def output_dir(path: Path, what: str = "--out") -> Path:
 
 def input_dir(path: Path, what: str = "results directory") -> Path:
     """``path`` if it is a folder to read (not under /proc, no link loop), else :class:`UsageError`."""
-    from ioc_bench.fileio import check_input_dir
+    from ioc_bench.paths import check_input_dir
 
     with usage_errors():
         return check_input_dir(path, what)

@@ -5,15 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.cli.common import (
-    add_json_flag,
-    input_dir,
-    output_dir,
-    output_file,
-    path_arg,
-    print_json,
-    usage_errors,
-)
+from ioc_bench.cli.common import add_json_flag, path_arg, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -31,16 +23,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.viz.figures import make_figures, output_names, select_results
+    from ioc_bench.viz.figures import plan_figures
 
-    input_dir(args.results)
-    with usage_errors():  # checked up front (empty folder, unreadable result, unknown algorithm), so
-        results = select_results(args.results, args.algorithm)  # that errors while drawing stay real errors
-        names = output_names(results)
-    output_dir(args.out)
-    for name in names.values():
-        output_file(args.out / name, "--out")
-    written = make_figures(args.results, args.out, algorithms=args.algorithm)
+    with usage_errors():  # every result and output checked here, so that errors while drawing stay real errors
+        plan = plan_figures(args.results, args.out, args.algorithm, out_name="--out")
+    written = plan.draw()
     if args.json:
         print_json({name: str(path) for name, path in written.items()})
     else:

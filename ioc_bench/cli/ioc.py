@@ -72,26 +72,7 @@ def run(args: argparse.Namespace) -> int:
     result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config, model=args.model)
     atomic_write_json(args.out, result.to_dict())
     plot = plot_convergence(result, args.out.with_suffix(".png"))
-    summary = {
-        "algorithm": result.algorithm,
-        "model": result.model,
-        "weight_set": result.weight_set,
-        "condition": result.condition,
-        "seed": result.seed,
-        "status": result.status,
-        "reason": result.reason,
-        "features": result.features,
-        "weights": result.weights,
-        "true_weights": result.true_weights,
-        "weight_error": result.weight_error,
-        "trajectory_error": result.trajectory_error,
-        "n_solves": result.n_solves,
-        "wall_time": result.wall_time,
-        "iterations": len(result.history),
-        "uncertainty": result.uncertainty,
-        "result_file": str(args.out),
-        "plot": str(plot),
-    }
+    summary = result.to_dict() | {"iterations": len(result.history), "result_file": str(args.out), "plot": str(plot)}
     if args.json:
         print_json(summary)
     else:
@@ -115,5 +96,14 @@ def _print(result, summary: dict) -> None:
     print(f"weights ({names})  estimated {fmt(result.weights)}  true {fmt(result.true_weights)}")
     print(f"weight error    {result.weight_error:.5f}")
     print(f"trajectory err. {result.trajectory_error:.4g}")
+    region = result.uncertainty
+    if region is not None:
+        holds = "holds" if result.covered else "does not hold"
+        print(f"95 % region     lower {fmt(region['lower'])}  upper {fmt(region['upper'])}: {holds} the truth")
+    moved = result.transfer
+    if moved is not None:
+        scored = isinstance(moved.get("trajectory_error"), (int, float))
+        score = f"traj. error {moved['trajectory_error']:.3g}, excess cost {moved['excess_cost']:.3g}" if scored else ""
+        print(f"transfer        at speed {moved['speed']:g}: {score or moved['status']}")
     print(f"cost            {result.n_solves} forward solves, {result.wall_time:.1f} s")
     print(f"wrote           {summary['result_file']} and {summary['plot']}")

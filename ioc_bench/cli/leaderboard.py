@@ -4,16 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ioc_bench.cli.common import (
-    UsageError,
-    add_json_flag,
-    input_dir,
-    output_dir,
-    output_file,
-    path_arg,
-    print_json,
-    usage_errors,
-)
+from ioc_bench.cli.common import add_json_flag, path_arg, print_json, usage_errors
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -26,23 +17,19 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.leaderboard import FILES, summarise, write_leaderboard
-    from ioc_bench.bench.results import load_results, no_results_message
+    from ioc_bench.bench.leaderboard import FILES, plan_leaderboard, split_tracks, summarise
+    from ioc_bench.bench.results import select_results
 
-    input_dir(args.results)
-    with usage_errors():
-        results = load_results(args.results)
-    if not results:
-        raise UsageError(no_results_message(args.results))
-    out = args.results if args.out is None else args.out
-    output_dir(out)
-    for name in FILES:
-        output_file(out / name)
-    replaced = [str(out / name) for name in FILES if (out / name).is_file()]
-    paths = write_leaderboard(results, out, source=str(args.results))
+    with usage_errors():  # every result and the output checked here, so that errors while writing stay real errors
+        results = select_results(args.results)
+        out = args.results if args.out is None else args.out
+        board = plan_leaderboard(results, out, source=str(args.results), out_name="--out")
+    replaced = [str(board.out / name) for name in FILES if (board.out / name).is_file()]
+    paths = board.write()
     if args.json:
         files = [str(p) for p in paths]
-        print_json({"files": files, "replaced": replaced, "cells": [c.__dict__ for c in summarise(results)]})
+        cells = [c.__dict__ for c in summarise(split_tracks(results)[0])]
+        print_json({"files": files, "replaced": replaced, "cells": cells})
     else:
         print(paths[0].read_text())
         print(f"wrote {', '.join(str(p) for p in paths)}" + (f" (replacing {', '.join(replaced)})" if replaced else ""))

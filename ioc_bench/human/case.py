@@ -34,7 +34,7 @@ import numpy as np
 from ioc_bench.cache import cache_dir
 from ioc_bench.checks import check_count, check_seed
 from ioc_bench.features import cost_features
-from ioc_bench.fileio import atomic_write_json, read_bytes
+from ioc_bench.fileio import atomic_write_json
 from ioc_bench.human.observe import human_observation
 from ioc_bench.human.record import TRACK, HumanResult, SpeedScore, design_of
 from ioc_bench.human.scoring import (
@@ -52,8 +52,9 @@ from ioc_bench.human.step import HumanStep, human_step
 from ioc_bench.human.wbds import WbdsData, subject_number, table_speed_code
 from ioc_bench.ioc.fit import Fit, fit
 from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
-from ioc_bench.ioc.registry import canonical_config, check_config, check_name, get_algorithm
+from ioc_bench.ioc.registry import canonical_config, check_algorithm_name, check_config, get_algorithm
 from ioc_bench.model.catalogue import get_model
+from ioc_bench.paths import read_bytes
 from ioc_bench.weights import parse_weights
 
 #: Weight directions also solved at every speed for the floor: the simplex lattice point
@@ -127,7 +128,7 @@ class HumanCaseSpec:
             raise ValueError(f"the training speed {both[0]} is also a predicted speed")
         if self.model not in HUMAN_MODELS:
             raise ValueError(f"human steps map to the models {', '.join(HUMAN_MODELS)}, not {self.model!r}")
-        check_name(self.algorithm)
+        check_algorithm_name(self.algorithm)
         object.__setattr__(self, "seed", check_seed(self.seed))
         object.__setattr__(self, "starts", check_count(self.starts, "starts", maximum=MAX_STARTS))
         for text in self.floor_weights:

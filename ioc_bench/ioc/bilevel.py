@@ -65,22 +65,22 @@ class BilevelConfig:
 
     Attributes:
         method: ``"gauss-newton"`` (least squares with the sensitivity Jacobian) or
-            ``"lbfgs"`` (the previous built-in: L-BFGS-B on the tracking error).
+            ``"lbfgs"`` (L-BFGS-B on the tracking error, with the gradient from the same Jacobian).
         max_iterations: outer iterations at most (per fit of the L1 path).
         max_solves: forward solves at most, in all.
         gtol: stop when the projected gradient is below this (L-BFGS-B; Gauss-Newton: the
             scaled gradient).
         ftol: stop when the tracking error improves by less than this (relative; None:
-            the method's own, :data:`FTOL`). The Gauss-Newton default, 1e-4, is a tenth of
-            what estimating 2 free weights from ~1400 noisy signal values moves the tracking
-            error (2/1400): past it the steps
-            change nothing the noise allows one to tell. Under noise the fit converges
-            linearly (a large-residual least-squares problem; measured ratio about 0.6 per
-            step on penalize-dtau, seed 0): with 1e-6 it took 32 solves for a weight change
-            of 3e-4 in its last 20; with 1e-10, exact fits kept iterating on the solves' own
-            1e-8 jitter until the budget ran out. L-BFGS-B keeps its previous 1e-10: its
-            steps are not Gauss-Newton steps, and with 1e-4 it stopped after 3 solves at a
-            weight error of 0.46 on an exact penalize-knee observation.
+            the method's own, :data:`FTOL`). Gauss-Newton: 1e-4, a tenth of what
+            estimating 2 free weights from ~1400 noisy signal values moves the tracking
+            error (2/1400); past it the steps change nothing the noise lets one tell apart.
+            Under noise the fit converges linearly (a large-residual least-squares problem,
+            ratio about 0.6 per step on penalize-dtau, seed 0), so a smaller tolerance buys
+            solves, not accuracy (1e-6: 32 solves for a weight change of 3e-4 in the last
+            20), and far below the solves' own 1e-8 jitter (1e-10) an exact fit iterates
+            until its budget runs out. L-BFGS-B: 1e-10, because its steps are not
+            Gauss-Newton steps (with 1e-4 it stops after 3 solves at a weight error of 0.46
+            on an exact penalize-knee observation).
         xtol: Gauss-Newton: stop when the weights move by less than this (relative; below
             the weights' resolution, 1e-3).
         floor: lower bound on each unnormalised weight (keeps ``|u|`` away from 0).
@@ -376,7 +376,7 @@ def _region(fit: _Fit, w: np.ndarray) -> WeightRegion | None:
 
 
 def _lbfgs(fit: _Fit, w0: np.ndarray) -> tuple[str, str]:
-    """The previous built-in: L-BFGS-B on the tracking error from uniform weights."""
+    """L-BFGS-B on the tracking error from ``w0``, the gradient through ``w = u / |u|``."""
     cfg = fit.cfg
 
     def objective(u: np.ndarray) -> tuple[float, np.ndarray]:

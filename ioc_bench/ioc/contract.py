@@ -1,6 +1,6 @@
 """The boundary between an algorithm and the benchmark: everything ``fit`` returns is checked.
 
-:func:`check_result` reads an algorithm's answer field by field (the weights, every history
+:func:`contract_breach` reads an algorithm's answer field by field (the weights, every history
 record, the chosen index, the notes, the uncertainty region) and returns a one-line reason
 for the first thing that breaks the contract of :mod:`ioc_bench.ioc.algorithm`, or an empty
 string. The case pipeline records a case with such a reason as failed, whatever entry point
@@ -17,7 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.checks import shown
 from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
+from ioc_bench.weights import weight_fault
 
 #: Longest status text kept (a status is a word or ``failed: <reason>``).
 MAX_STATUS = 500
@@ -29,8 +31,9 @@ class ContractError(ValueError):
     """An algorithm returned something the plugin contract does not allow."""
 
 
-def check_result(result: Any, n_features: int) -> str:
-    """The first way ``result`` breaks the contract for a problem of ``n_features``, or ``""``."""
+def contract_breach(result: Any, n_features: int) -> str:
+    """The first way ``result`` breaks the contract for a problem of ``n_features``, or ``""``
+    (a reason, never raised: the case pipeline records it)."""
     try:
         _result(result, n_features)
     except ContractError as exc:
@@ -42,12 +45,11 @@ def _result(result: Any, n: int) -> None:
     if not isinstance(result, IOCResult):
         raise ContractError(f"fit() returned {type(result).__name__}, not IOCResult")
     w = _numbers(result.weights, n, "weights")
-    if not np.all(np.isfinite(w)):
-        raise ContractError(f"returned non-finite weights {_short(w.tolist())} (status {_short(result.status)})")
-    if np.any(w < 0):
-        raise ContractError(f"returned negative weights {_short(w.tolist())}")
-    if not np.any(w > 0):
-        raise ContractError("returned all-zero weights")
+    fault = weight_fault(w)
+    if fault == "non-finite":
+        raise ContractError(f"returned non-finite weights {shown(w.tolist())} (status {shown(result.status)})")
+    if fault:
+        raise ContractError(f"returned {fault} weights" + ("" if fault == "all-zero" else f" {shown(w.tolist())}"))
     _text(result.status, "status")
     if not isinstance(result.history, (tuple, list)):
         raise ContractError(f"history must be a tuple of IterationRecord, got {type(result.history).__name__}")
@@ -55,7 +57,7 @@ def _result(result: Any, n: int) -> None:
         _record(record, n, f"history[{i}]")
     chosen = result.chosen_iteration
     if chosen is not None and (not _integer(chosen) or not 0 <= chosen < len(result.history)):
-        raise ContractError(f"chosen_iteration {_short(chosen)} is not an index into the {len(result.history)} records")
+        raise ContractError(f"chosen_iteration {shown(chosen)} is not an index into the {len(result.history)} records")
     _json(result.notes, "notes")
     if result.uncertainty is not None:
         _region(result.uncertainty, n)
@@ -70,7 +72,7 @@ def _record(record: Any, n: int, where: str) -> None:
     for name in ("tracking_error", "trajectory_error"):
         value = getattr(record, name)
         if not _real(value) or (math.isfinite(value) and value < 0):
-            raise ContractError(f"{where}.{name} must be a number >= 0 (NaN if unknown), got {_short(value)}")
+            raise ContractError(f"{where}.{name} must be a number >= 0 (NaN if unknown), got {shown(value)}")
     _text(record.solve_status, f"{where}.solve_status", empty=True)
     _json(record.extra, f"{where}.extra")
 
@@ -95,7 +97,7 @@ def _region(region: Any, n: int) -> None:
     if np.any(lower > upper):
         raise ContractError("uncertainty has a lower bound above its upper bound")
     if not (_real(region.level) and 0 < region.level < 1):
-        raise ContractError(f"uncertainty.level must be in (0, 1), got {_short(region.level)}")
+        raise ContractError(f"uncertainty.level must be in (0, 1), got {shown(region.level)}")
     if region.covariance is not None:
         try:
             cov = np.asarray(region.covariance, dtype=float)
@@ -111,7 +113,7 @@ def _numbers(value: Any, n: int, name: str) -> np.ndarray:
     if isinstance(items, (str, bytes)) or not isinstance(items, (list, tuple)):
         raise ContractError(f"{name} must be a sequence of {n} numbers, got {type(value).__name__}")
     if not all(_real(x) for x in items):
-        raise ContractError(f"{name} must hold numbers, got {_short(items)}")
+        raise ContractError(f"{name} must hold numbers, got {shown(items)}")
     arr = np.asarray(items, dtype=float)
     if arr.shape != (n,):
         raise ContractError(
@@ -135,7 +137,7 @@ def _text(value: Any, name: str, empty: bool = False) -> None:
     if not one_line or (not empty and not value) or len(value) > MAX_STATUS:
         raise ContractError(
             f"{name} must be a{'' if empty else ' non-empty'} text of at most {MAX_STATUS} characters, "
-            f"got {_short(value)}"
+            f"got {shown(value)}"
         )
 
 
@@ -145,7 +147,7 @@ def _json(value: Any, name: str) -> None:
     try:
         text = json.dumps(_plain(value), allow_nan=True)
     except (TypeError, ValueError, RecursionError) as exc:
-        raise ContractError(f"{name} must hold JSON values (numbers, text, lists, dicts): {_short(str(exc))}") from None
+        raise ContractError(f"{name} must hold JSON values (numbers, text, lists, dicts): {shown(str(exc))}") from None
     if len(text) > MAX_NOTES_BYTES:
         raise ContractError(f"{name} is {len(text)} bytes as JSON, more than {MAX_NOTES_BYTES}")
 
@@ -161,8 +163,3 @@ def _plain(value: Any) -> Any:
     if isinstance(value, (np.ndarray, np.generic)):
         return value.tolist()
     return value
-
-
-def _short(value: Any, limit: int = 60) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[: limit - 3] + "..."

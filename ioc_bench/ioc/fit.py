@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ioc_bench.ioc.algorithm import IOCResult
-from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.contract import contract_breach
 from ioc_bench.ioc.oracle import OracleStats
 from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import make_algorithm
@@ -70,7 +70,7 @@ def fit(algorithm: str, config: Mapping[str, Any], problem: IOCProblem | MultiTr
         reason = f"{type(exc).__name__}: {exc} (at {last.filename}:{last.lineno})"
         return Fit(None, reason, _elapsed(problem, t0), problem.stats.copy(), settings)
     wall = _elapsed(problem, t0)
-    reason = check_result(result, problem.n_features)
+    reason = contract_breach(result, problem.n_features)
     return Fit(None if reason else result, reason, wall, problem.stats.copy(), settings)
 
 

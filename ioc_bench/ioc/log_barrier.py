@@ -1,4 +1,4 @@
-"""The paper's IOC method (Rebula et al., section II.D; SPEC section 3): the baseline.
+"""The paper's IOC method (Rebula et al., section II.D; ``docs/spec.md``, "The baseline IOC method").
 
 1. Draw N trajectories around the observed one with Gaussian noise and project each to
    the feasible set: the suboptimal set X-.

@@ -24,7 +24,7 @@ import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from ioc_bench.checks import TypeMismatch, coerce
+from ioc_bench.checks import TypeMismatch, coerce, shown
 from ioc_bench.fileio import to_jsonable
 from ioc_bench.ioc.algorithm import FAMILIES, IOCAlgorithm
 
@@ -61,7 +61,7 @@ def register_algorithm(name: str) -> Callable[[type[IOCAlgorithm]], type[IOCAlgo
     return decorate
 
 
-def check_name(name: Any) -> str:
+def check_algorithm_name(name: Any) -> str:
     """``name`` if it is a valid algorithm name, else :class:`AlgorithmError`."""
     if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name) or ".." in name:
         raise AlgorithmError(
@@ -71,7 +71,7 @@ def check_name(name: Any) -> str:
 
 
 def _add(name: str, cls: Any, origin: str) -> None:
-    check_name(name)
+    check_algorithm_name(name)
     if not (isinstance(cls, type) and issubclass(cls, IOCAlgorithm)):
         raise AlgorithmError(f"algorithm {name!r} from {origin} is not an IOCAlgorithm subclass")
     if cls.family not in FAMILIES:
@@ -168,8 +168,7 @@ def get_algorithm(name: str) -> type[IOCAlgorithm]:
             if ep.name == name and _load_plugin(ep):
                 break
     if name not in _REGISTRY:
-        shown = name if len(name) <= 60 else name[:57] + "..."
-        raise AlgorithmError(f"unknown algorithm {shown!r}; valid: {', '.join(_loadable())}")
+        raise AlgorithmError(f"unknown algorithm {shown(name)}; valid: {', '.join(_loadable())}")
     return _REGISTRY[name]
 
 

@@ -1,4 +1,4 @@
-"""The weight optimization at the core of the paper's IOC (SPEC section 3, step 2).
+"""The weight optimization at the core of the paper's IOC (``docs/spec.md``, "The baseline IOC method", step 2).
 
 Given feature differences ``d_i = phi(x_i^-) - phi(x*)`` of suboptimal samples, find unit
 weights in ``[lower, upper]`` under which every sample costs more than the observation
@@ -8,9 +8,9 @@ weights in ``[lower, upper]`` under which every sample costs more than the obser
 - ``"center"``: maximise ``sum_i log(w . d_i / |d_i|)``, the analytic centre of the cone of
   separating weights (used by the analytic-centre cutting-plane variant).
 
-With features of 1e-4..1e-6 the separation constraints are about 1e-5 in raw units, below
-IPOPT's constraint tolerance; they are therefore imposed on unit-scaled rows
-``w . d_i / |d_i| >= 0`` (the same feasible set, now enforced).
+A sample near the observation can differ from it by less than IPOPT's constraint
+tolerance in raw units, so the separation constraints are imposed on unit-scaled rows
+``w . d_i / |d_i| >= 0``: the same feasible set, enforced whatever the features' scale.
 """
 
 from __future__ import annotations

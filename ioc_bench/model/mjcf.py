@@ -1,7 +1,7 @@
 """The walker as a MuJoCo model (MJCF), generated from the same :class:`WalkerParams`.
 
 The optimizer and MuJoCo must describe one and the same walker, so the MJCF is built in
-code from the parameters (SPEC section 1): a model variant such as
+code from the parameters (``docs/spec.md``, "The walker"): a model variant such as
 ``WalkerParams().with_leg_mass_scale(1.1)`` gives the matching MuJoCo model with no
 extra code. This module only writes a string; it does not import MuJoCo.
 
@@ -25,7 +25,7 @@ a joint torque acts ``+tau`` on the child. In a body frame the segment axis is +
 hanging leg's centre of mass sits at ``(0, 0, -com)`` and the torso's at ``(0, 0, com)``.
 
 Inertia: each body has an explicit ``<inertial>`` with the parameters' mass and centre of
-mass, and the SPEC inertia about y. The walker only rotates about y; the x and z entries
+mass, and the parameters' inertia about y. The walker only rotates about y; the x and z entries
 are those of a thin rod along the body axis (``Ixx = Iyy``, ``Izz = 1e-3 Iyy``), the
 smallest choice MuJoCo accepts (it requires ``Ixx + Izz >= Iyy``). No joint has damping or
 armature, so MuJoCo's rigid-body dynamics equal the optimizer's Newton-Euler equations.
@@ -102,7 +102,7 @@ def _fmt(*values: float) -> str:
 
 
 def _inertial(seg: SegmentParams, com_z: float) -> str:
-    """The ``<inertial>`` element of a segment: SPEC inertia about y, thin rod otherwise."""
+    """The ``<inertial>`` element of a segment: the parameters' inertia about y, thin rod otherwise."""
     inertia = _fmt(seg.inertia, seg.inertia, 1e-3 * seg.inertia)
     return f'<inertial pos="0 0 {com_z:.12g}" mass="{seg.mass:.12g}" diaginertia="{inertia}"/>'
 
@@ -133,7 +133,7 @@ def _leg(p: WalkerParams, leg: str, c: ContactSettings) -> str:
 
 
 def walker_mjcf(params: WalkerParams | None = None, contact: ContactSettings | None = None) -> str:
-    """MJCF of the planar walker for ``params`` (default: SPEC section 1).
+    """MJCF of the planar walker for ``params`` (default: ``docs/spec.md``, "Segment parameters").
 
     Args:
         params: the walker's parameters, the same the optimizer uses.

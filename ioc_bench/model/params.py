@@ -1,4 +1,4 @@
-"""The walker's physical parameters: the single source of truth (SPEC section 1).
+"""The walker's physical parameters: the single source of truth (``docs/spec.md``, "The walker").
 
 Everything is dimensionless: leg length 1, total body mass 1, gravity 1, so the time unit
 is sqrt(L/g). The trajectory optimizer, the features and the MuJoCo model are all built
@@ -40,7 +40,7 @@ class SegmentParams:
 
 @dataclass(frozen=True)
 class WalkerParams:
-    """Parameters of the 5-segment planar walker (defaults: SPEC section 1).
+    """Parameters of the 5-segment planar walker (defaults: ``docs/spec.md``, "Segment parameters").
 
     Attributes:
         torso: torso segment; its proximal end is the hip.
@@ -85,7 +85,7 @@ class WalkerParams:
 
         Leg inertias scale with their mass (same geometry, denser material). The torso
         gives up the added mass so the total stays unchanged, and its inertia scales with
-        its mass too. SPEC section 4's "mass" condition is ``with_leg_mass_scale(1.1)``.
+        its mass too. The ``mass`` condition (``docs/spec.md``, "Conditions") is ``with_leg_mass_scale(1.1)``.
         """
         added = (factor - 1.0) * 2 * (self.thigh.mass + self.shank.mass)
         torso_mass = self.torso.mass - added

@@ -43,7 +43,7 @@ def _stick(name: str, seg: SegmentParams, proximal: str, distal: str, com_below:
 
 
 def walker_linkage(params: WalkerParams | None = None) -> Linkage:
-    """The walker of SPEC section 1 as a planar linkage, stance foot pinned at the origin."""
+    """The walker (``docs/spec.md``, "The walker") as a planar linkage, stance foot pinned at the origin."""
     p = params or WalkerParams()
     segments = (
         _stick("torso", p.torso, "hip", "shoulder", com_below=False),
@@ -86,7 +86,7 @@ def _guess_angles(linkage: Linkage, params: WalkerParams, shape: GuessShape, s: 
     return theta
 
 
-#: The 5-segment walker of SPEC section 1 (the benchmark's model).
+#: The 5-segment walker of ``docs/spec.md``, "The walker" (the benchmark's model).
 WALKER = GaitModel(
     name="walker",
     linkage=walker_linkage,

@@ -14,16 +14,15 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.features import PAPER_GRAVITY
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.task import Task
 from ioc_bench.trajectory import Trajectory
 from ioc_bench.trajopt.forward_problem import ForwardProblem
 from ioc_bench.trajopt.step_problem import StepRules, classify_active
 
-#: Leg length of the human-sized walker the figures are also given for (SPEC section 2), m.
+#: Leg length of the human-sized walker the figures are also given for (``docs/spec.md``, "Units"), m.
 HUMAN_LEG = 0.9
-#: Gravity for that conversion, m/s^2.
-GRAVITY = 9.81
 #: Below this mid-swing foot height (leg lengths) the swing foot scuffs the ground.
 SCUFF_HEIGHT = 1e-3
 
@@ -82,7 +81,7 @@ def gait_figures(
     foot = trajectory.point(linkage, *model.roles.swing_foot)
     t = trajectory.n_knots
     step = trajectory.duration * task.speed
-    time_unit = math.sqrt(HUMAN_LEG / GRAVITY)
+    time_unit = math.sqrt(HUMAN_LEG / PAPER_GRAVITY)
     return GaitFigures(
         step_length=step,
         duration=trajectory.duration,

@@ -1,7 +1,7 @@
 """Is a step a local minimum of its own cost? A proximal descent says, and polishes it if not.
 
 IPOPT returns stationary points; across a knee-lock switch such a point can be a saddle
-or a kink, not a minimum (measured before on a fast-gait demonstration: a proximal step
+or a kink, not a minimum (measured on a fast-gait demonstration: a proximal step
 under its own weights found a 0.23 % cheaper step, so an IOC cut removed the truth). The
 check minimises ``w . phi(x) + lambda * J(x*) * D(x, x*)`` from ``x*`` for a ladder of
 proximal weights ``lambda`` (:mod:`ioc_bench.trajopt.tracking`): a local minimum comes back

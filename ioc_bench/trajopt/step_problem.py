@@ -1,4 +1,4 @@
-"""The walking problem of SPEC section 2: one periodic step of a gait model, as an NLP.
+"""The walking problem (``docs/spec.md``, "The step"): one periodic step of a gait model, as an NLP.
 
 What is optimized and constrained lives here; how time is discretized lives in
 :class:`~ioc_bench.trajopt.transcription.HermiteSimpson`. Decision variables (named blocks,
@@ -108,7 +108,8 @@ def classify_active(active: dict[str, int]) -> dict[str, dict[str, int]]:
 
 @dataclass(frozen=True)
 class StepRules:
-    """Formulation choices the paper states and SPEC left open (``docs/gait_regime.md``).
+    """Formulation choices of the step (``docs/spec.md``, "Heel strike and lift-off" and "Cost features";
+    the evidence: ``docs/gait_regime.md``).
 
     Attributes:
         liftoff: ``"paper"`` (the benchmark's): the trailing (old stance) foot leaves the

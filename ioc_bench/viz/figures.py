@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -26,10 +26,11 @@ from matplotlib.ticker import MaxNLocator
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import AXES, CONDITIONS
-from ioc_bench.bench.results import load_results, no_results_message, run_slug
+from ioc_bench.bench.results import run_slug, select_results
 from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
-from ioc_bench.fileio import atomic_write_text, check_name, check_output_dir, check_output_file
+from ioc_bench.fileio import atomic_write_text
+from ioc_bench.paths import PathError, check_file_name, check_output_dir, check_output_file
 from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
 from ioc_bench.viz.convergence import draw_convergence
@@ -401,34 +402,12 @@ def _fmt_counts(counts: dict[tuple[str, str], int]) -> str:
 # --------------------------------------------------------------------------- everything
 
 
-def select_results(results_dir: str | os.PathLike, algorithms: Sequence[str] | None = None) -> list[CaseResult]:
-    """The synthetic track's results of ``results_dir``, restricted to ``algorithms``
-    (default: all present).
-
-    Raises ``ValueError`` for a missing or empty directory, an unreadable result file, or a
-    requested algorithm that is not in the results (the message lists those present).
-    """
-    everything = load_results(results_dir)
-    if not everything:
-        raise ValueError(no_results_message(results_dir))
-    results = [r for r in everything if isinstance(r, CaseResult)]  # a human case's figure is beside its file
-    if not results:
-        raise ValueError(
-            f"{results_dir} holds human-track cases only: their figures are beside their result files (.png)"
-        )
-    present = sorted({r.algorithm for r in results})
-    unknown = [a for a in algorithms or () if a not in present]
-    if unknown:
-        raise ValueError(f"algorithm(s) not in the results: {', '.join(unknown)}; present: {', '.join(present)}")
-    return [r for r in results if not algorithms or r.algorithm in algorithms]
-
-
 def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
     """Figure name -> file name of everything :func:`make_figures` writes for ``results``.
 
     File names are built from checked identifiers only (an algorithm's name and config
     digest, :func:`~ioc_bench.bench.results.run_slug`) and each must be a plain file name
-    (:func:`~ioc_bench.fileio.check_name`): content never names a path. Raises
+    (:func:`~ioc_bench.paths.check_file_name`): content never names a path. Raises
     ``ValueError`` otherwise.
     """
     slugged = _slugged(results)
@@ -436,7 +415,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
     for alg in sorted({r.algorithm for r in slugged}):
         for figure, conditions in (("figure4", ("ideal",)), ("figure5", FIGURE5_CONDITIONS)):
             if any(r.algorithm == alg and r.condition in conditions for r in slugged):
-                names[f"{figure}_{alg}"] = check_name(f"{figure}_{alg}.png")
+                names[f"{figure}_{alg}"] = check_file_name(f"{figure}_{alg}.png")
     names["figure6"] = "figure6.png"
     if robustness_curves(slugged):
         names["robustness"] = "robustness.png"
@@ -445,7 +424,62 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
 
 def _slugged(results: Sequence[CaseResult]) -> list[CaseResult]:
     """Results whose ``algorithm`` is their run's slug (one config of one algorithm), checked."""
-    return [replace(r, algorithm=check_name(run_slug(r), "algorithm name")) for r in results]
+    return [replace(r, algorithm=check_file_name(run_slug(r), "algorithm name")) for r in results]
+
+
+@dataclass(frozen=True)
+class FigurePlan:
+    """What :func:`make_figures` writes, every input and output checked (:func:`plan_figures`).
+
+    Attributes:
+        results: the selected results, each ``algorithm`` its run's checked slug.
+        out: the output folder.
+        names: figure name -> file name in ``out`` (:func:`output_names`).
+    """
+
+    results: tuple[CaseResult, ...]
+    out: Path
+    names: dict[str, str]
+
+    def draw(self) -> dict[str, Path]:
+        """Draw and write every figure; returns figure name -> path, in :attr:`names` order."""
+        results, out, names = self.results, self.out, self.names
+        written = {"table1": write_table1(results, out / names["table1"])}
+        for figure, plot in (("figure4", plot_figure4), ("figure5", plot_figure5)):
+            for alg in sorted({r.algorithm for r in results}):
+                if f"{figure}_{alg}" in names:
+                    written[f"{figure}_{alg}"] = plot(results, alg, out / names[f"{figure}_{alg}"])
+        written["figure6"] = plot_figure6(results, out / names["figure6"])
+        if "robustness" in names:
+            written["robustness"] = plot_robustness(results, out / names["robustness"])
+        return dict(sorted(written.items(), key=lambda kv: list(names).index(kv[0])))
+
+
+def plan_figures(
+    results_dir: str | os.PathLike,
+    out_dir: str | os.PathLike,
+    algorithms: Sequence[str] | None = None,
+    *,
+    out_name: str = "out_dir",
+) -> FigurePlan:
+    """Read and check everything :func:`make_figures` needs, before anything is drawn.
+
+    Raises ``ValueError`` as :func:`~ioc_bench.bench.results.select_results` does, for a
+    result whose algorithm cannot name a file (:func:`output_names`), and
+    :class:`~ioc_bench.paths.PathError` (its message starting with ``out_name``) for an
+    ``out_dir``, or a file in it, that cannot be written (:mod:`ioc_bench.paths`' checks).
+    """
+    selected = [r for r in select_results(results_dir, algorithms) if isinstance(r, CaseResult)]
+    if not selected:  # a human case's figure is beside its result file
+        raise ValueError(f"{results_dir} holds human-track cases only: their figures are beside their result files")
+    names = output_names(selected)
+    try:
+        out = check_output_dir(out_dir)
+        for name in names.values():
+            check_output_file(out / name)
+    except PathError as exc:
+        raise PathError(f"{out_name}: {exc}") from None
+    return FigurePlan(tuple(_slugged(selected)), out, names)
 
 
 def make_figures(
@@ -455,25 +489,11 @@ def make_figures(
 
     Returns figure name -> path: ``table1`` (always, saying so if it has no data),
     ``figure4_<algorithm>`` / ``figure5_<algorithm>`` for algorithms with ideal /
-    imperfect-condition cases, and ``figure6`` (see :func:`output_names`). Raises
-    ``ValueError`` as :func:`select_results` does, and for an ``out_dir`` (or a file in it)
-    that cannot be written (:mod:`ioc_bench.fileio`'s checks), all before drawing.
+    imperfect-condition cases, ``figure6``, and ``robustness`` for robustness-suite results
+    (see :func:`output_names`). Raises ``ValueError`` as :func:`plan_figures` does, before
+    drawing anything.
     """
-    selected = select_results(results_dir, algorithms)
-    names = output_names(selected)
-    results = _slugged(selected)
-    out = check_output_dir(out_dir)
-    for name in names.values():
-        check_output_file(out / name)
-    written = {"table1": write_table1(results, out / names["table1"])}
-    for figure, plot in (("figure4", plot_figure4), ("figure5", plot_figure5)):
-        for alg in sorted({r.algorithm for r in results}):
-            if f"{figure}_{alg}" in names:
-                written[f"{figure}_{alg}"] = plot(results, alg, out / names[f"{figure}_{alg}"])
-    written["figure6"] = plot_figure6(results, out / names["figure6"])
-    if "robustness" in names:
-        written["robustness"] = plot_robustness(results, out / names["robustness"])
-    return dict(sorted(written.items(), key=lambda kv: list(names).index(kv[0])))
+    return plan_figures(results_dir, out_dir, algorithms).draw()
 
 
 def plot_robustness(results: Sequence[CaseResult], path: str | os.PathLike) -> Path:
@@ -518,8 +538,10 @@ def plot_robustness(results: Sequence[CaseResult], path: str | os.PathLike) -> P
 __all__ = [
     "FIGURE5_CONDITIONS",
     "TABLE1_CONDITIONS",
+    "FigurePlan",
     "make_figures",
     "output_names",
+    "plan_figures",
     "plot_figure4",
     "plot_figure5",
     "plot_figure6",

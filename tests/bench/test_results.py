@@ -223,7 +223,7 @@ def test_every_condition_of_every_suite_is_found_again_when_its_file_is_written(
     assert sorted(r.condition for r in load_results(tmp_path)) == conditions
 
 
-# -- a file is the case its name says (issue 24) -----------------------------------------------
+# -- a file is the case its name says ----------------------------------------------------------
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -253,7 +253,7 @@ def test_recorded_spec_is_the_case_the_content_says(make_result):
     ],
 )
 def test_stored_result_is_never_another_case(tmp_path, make_result, content, named):
-    """(Issue 24: one algorithm's results under another's names were taken as done.)"""
+    """One algorithm's results under another's names are never taken as done."""
     spec = CaseSpec(**({"algorithm": "log-barrier", "weight_set": "nominal", "condition": "ideal", "seed": 0} | named))
     other = make_result(**content)
     spec.path(tmp_path).parent.mkdir(parents=True)
@@ -285,7 +285,7 @@ def test_a_case_key_or_case_config_that_disagrees_with_the_content_is_refused(tm
 
 
 def test_a_case_folder_leading_out_of_the_results_is_refused_before_and_at_writing(tmp_path, make_result):
-    """(Issue 24: run followed a linked algorithm folder and wrote outside --out.)"""
+    """A linked algorithm folder inside --out cannot make run write outside it."""
     root, outside = tmp_path / "results", tmp_path / "outside"
     root.mkdir()
     outside.mkdir()
@@ -311,7 +311,7 @@ def test_a_case_folder_leading_out_of_the_results_is_refused_before_and_at_writi
     ],
 )
 def test_result_names_that_are_not_regular_files_are_refused_by_name(tmp_path, make, message):
-    """(Issue 24: links to /etc/passwd and /dev/zero were read, a FIFO blocked the reader.)"""
+    """Links (to /etc/passwd, /dev/zero) are not read and a FIFO does not block the reader."""
     path = CaseSpec("log-barrier", "nominal", "ideal", 0).path(tmp_path)
     path.parent.mkdir()
     make(path)
@@ -361,7 +361,7 @@ def test_a_case_name_too_long_for_the_file_system_is_refused_before_the_run(tmp_
     ],
 )
 def test_out_of_range_values_are_refused(make_result, change, message):
-    """(Issue 24: negative errors, zero truths, unknown names and 10**30 solves were rendered as valid.)"""
+    """Negative errors, zero truths, unknown names and 10**30 solves are refused, never rendered."""
     with pytest.raises(ValueError, match=message) as exc:
         parse_result(make_result().to_dict() | change)
     assert "\n" not in str(exc.value) and len(str(exc.value)) < 400

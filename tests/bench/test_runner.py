@@ -248,7 +248,7 @@ def test_schedule_limits_jobs_in_flight_times_out_stuck_ones_and_finishes_each_o
 
 
 def test_an_error_while_recording_a_success_stops_the_run_and_is_never_recorded_as_a_failure():
-    """(The Ray executor used to overwrite a success just written with a failure.)"""
+    """An error while recording a success must not turn it into a failure written over it."""
     executor = FakeExecutor({0: 1, 1: None}, slots=2)
     recorded = []
 

@@ -71,13 +71,15 @@ def test_ioc_json(capsys, tmp_path, ideal_nominal_cached):
     assert report["weight_error"] < 0.01 and report["n_solves"] > 0
     saved = json.loads(out.read_text())
     assert saved["weight_error"] == report["weight_error"] and len(saved["history"]) == report["iterations"]
+    assert {k: report[k] for k in saved} == saved  # everything the result file holds: transfer, coverage, region
+    assert report["transfer"]["speed"] == 0.34 and report["covered"] is not None and report["uncertainty"]
     assert out.with_suffix(".png").is_file()
 
 
-def test_solver_timing_is_speed_and_a_missing_command_module_fails_loudly(monkeypatch):
+def test_solver_timing_is_its_own_command_and_a_missing_command_module_fails_loudly(monkeypatch):
     from ioc_bench import cli
 
-    assert "speed" in cli.COMMANDS and "bench" not in cli.COMMANDS
+    assert "solver_timing" in cli.COMMANDS and "speed" not in cli.COMMANDS and "bench" not in cli.COMMANDS
     monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, "no_such_command_module"))
     with pytest.raises(ModuleNotFoundError, match="no_such_command_module"):
         cli.build_parser()

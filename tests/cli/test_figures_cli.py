@@ -56,7 +56,7 @@ def test_human_report_lists_the_files(results_dir, tmp_path, capsys, monkeypatch
     from ioc_bench.viz import figures
 
     # the drawing itself is tested in tests/viz; here only what the command prints
-    monkeypatch.setattr(figures, "make_figures", lambda d, o, algorithms: {"table1": o / "table1.md"})
+    monkeypatch.setattr(figures.FigurePlan, "draw", lambda plan: {"table1": plan.out / "table1.md"})
     assert main(["figures", str(results_dir), "--out", str(tmp_path)]) == 0
     assert capsys.readouterr().out.split() == ["table1", str(tmp_path / "table1.md")]
 

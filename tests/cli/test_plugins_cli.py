@@ -1,4 +1,4 @@
-"""Plugins as the command line shows them (issue 24): refused plugins are never offered, a
+"""Plugins as the command line shows them: refused plugins are never offered, a
 name clash is refused with its message; ``run --list`` honours ``--suite`` and ``--json``."""
 
 from __future__ import annotations

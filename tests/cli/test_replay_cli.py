@@ -175,7 +175,7 @@ def test_a_bad_file_among_good_ones_stops_before_any_check(demo_file, tmp_path, 
 
 
 def test_mujoco_warnings_go_to_stderr_not_to_a_log_file(demo_file, tmp_path, capsys, monkeypatch):
-    """(Issue 24: replay left MUJOCO_LOG.TXT in the current folder, outside --out.)
+    """Replay writes no MUJOCO_LOG.TXT in the current folder (outside --out).
 
     MuJoCo appends every warning to ``MUJOCO_LOG.TXT`` in the current folder unless a
     warning handler is set; one is forced here while the replay runs.

@@ -1,5 +1,5 @@
 """The physical verdict: the valid demonstration passes every check, and each physically
-wrong variant of it fails the check that names what is wrong (issue 23)."""
+wrong variant of it fails the check that names what is wrong."""
 
 from __future__ import annotations
 

@@ -100,7 +100,7 @@ def test_subject_walker_is_in_walker_units(subject: str) -> None:
     assert params.thigh.com == pytest.approx(WINTER["thigh"].com * params.thigh.length)
     # The shank carries the foot: its centre of mass lies below Winter's leg-alone one.
     assert params.shank.com > WINTER["leg"].com * body.lengths.shank / body.leg_length
-    # Close to the default walker, which SPEC scaled from the same table.
+    # Close to the default walker, whose masses come from the same table (docs/spec.md).
     assert params.thigh.length == pytest.approx(0.46, abs=0.03)
     assert params.torso.inertia == pytest.approx(0.05, rel=0.2)
 

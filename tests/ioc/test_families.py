@@ -46,7 +46,7 @@ def test_bilevel_gauss_newton_recovers_an_exact_observation_in_few_solves(penali
     result = ioc_bench.run_case("bilevel", "penalize-knee", "ideal", seed=0)
     assert result.weight_error < 1e-4 and result.n_solves <= 8, (result.weight_error, result.n_solves)
     assert result.covered  # exact data: the region holds the truth
-    # The previous built-in stays selectable and still recovers exact data. (On exact
+    # L-BFGS-B (method lbfgs) is selectable and recovers exact data too. (On exact
     # data it needs no more solves than Gauss-Newton here; they differ under noise and distractors.)
     old = ioc_bench.run_case("bilevel", "penalize-knee", "ideal", seed=0, config={"method": "lbfgs"})
     assert old.status != "failed" and old.weight_error < 1e-3, (old.reason, old.weight_error)

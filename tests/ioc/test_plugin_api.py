@@ -25,7 +25,7 @@ from ioc_bench import IOCResult, IterationRecord, WeightRegion, run_case
 from ioc_bench.bench.case import CaseSpec
 from ioc_bench.bench.results import load_results
 from ioc_bench.bench.runner import run_cases
-from ioc_bench.ioc.contract import check_result
+from ioc_bench.ioc.contract import contract_breach
 
 PACKAGE = Path(__file__).parent / "plugin_pkg"
 MALFORMED = [
@@ -111,8 +111,8 @@ def test_the_contract_catches_each_malformed_answer(kind):
         "nan-weights": IOCResult(np.full(2, np.nan)),
         "not-a-result": {"weights": w},
     }
-    assert check_result(IOCResult(w, history=(good,), chosen_iteration=0), 2) == ""
-    reason = check_result(answers[kind], 2)
+    assert contract_breach(IOCResult(w, history=(good,), chosen_iteration=0), 2) == ""
+    reason = contract_breach(answers[kind], 2)
     assert reason and "\n" not in reason
 
 

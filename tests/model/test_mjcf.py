@@ -47,7 +47,7 @@ def test_inertial_properties_come_from_params(params: WalkerParams):
         for body, seg, sign in (("thigh", params.thigh, -1), ("shank", params.shank, -1)):
             b = m.body(f"{body}_{leg}")
             assert b.mass[0] == pytest.approx(seg.mass)
-            assert b.inertia[1] == pytest.approx(seg.inertia)  # about y: the SPEC value
+            assert b.inertia[1] == pytest.approx(seg.inertia)  # about y: the parameters' value
             assert b.ipos == pytest.approx([0, 0, sign * seg.com])
             # MuJoCo's triangle inequality holds with small off-plane inertia.
             assert b.inertia[2] < 0.01 * seg.inertia

@@ -27,7 +27,7 @@ def test_task_step_length_is_held(nominal_demo):
 
 
 def test_relaxed_liftoff_lets_the_trailing_foot_leave_upward(nominal_demo):
-    """SPEC's relaxed rule (kept for studies) takes no trailing-foot impulse."""
+    """The relaxed lift-off rule (kept for studies) takes no trailing-foot impulse."""
     relaxed = optimize_gait("nominal", init=nominal_demo, rules=StepRules(liftoff="relaxed"), verify=False)
     assert relaxed.solver.success
     assert abs(relaxed.trajectory.trail_impulse).max() == 0.0

@@ -262,7 +262,7 @@ def test_two_configs_of_one_algorithm_are_drawn_apart(tmp_path):
 
 
 def test_output_names_come_from_checked_identifiers_only(tmp_path):
-    """(Issue 24: an algorithm field ``x/../../ESCAPED`` made figures write a PNG outside --out.)"""
+    """A result whose algorithm field is ``x/../../ESCAPED`` cannot make figures write a PNG outside --out."""
     good = figures.output_names(synthetic_results())
     assert good["figure4_alpha"] == "figure4_alpha.png" and "/" not in "".join(good.values())
     for bad in ("x/../../ESCAPED", "../x", ".hidden", "a b"):

@@ -1,4 +1,4 @@
-"""``ioc-bench speed``: median solve times of the trajectory optimizer (cold, warm-started, 15-start) here."""
+"""``ioc-bench solver-timing``: median solve times of the trajectory optimizer (cold, warm-started, 15-start)."""
 
 from __future__ import annotations
 
@@ -8,12 +8,12 @@ import sys
 
 from ioc_bench.cli.common import add_json_flag, positive_int, print_json
 
-#: Targets of the "Optimal walking gaits" issue, in seconds.
+#: What a solve should take on a 2-core machine, in seconds; each median is printed against its target.
 TARGETS = {"cold_median_s": 2.0, "warm_median_s": 0.5, "multistart_median_s": 15.0}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("speed", help="time the trajectory optimizer (prints medians)", description=__doc__)
+    p = sub.add_parser("solver-timing", help="time the trajectory optimizer (prints medians)", description=__doc__)
     p.add_argument("--repeats", type=positive_int, default=7, help="cold and warm solves to time (default 7)")
     p.add_argument("--multistart-repeats", type=positive_int, default=3, help="15-start solves to time (default 3)")
     add_json_flag(p)
@@ -21,7 +21,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.speed import time_solver
+    from ioc_bench.solver_timing import time_solver
 
     def say(msg: str) -> None:
         if not args.json:

@@ -1,4 +1,4 @@
-"""Solver speed (``ioc-bench speed``): medians of cold, warm and multi-start solves on this machine.
+"""Solver timing (``ioc-bench solver-timing``): medians of cold, warm and multi-start solves on this machine.
 
 This times the trajectory optimizer only; the IOC benchmark itself is :mod:`ioc_bench.bench`.
 
@@ -33,7 +33,9 @@ WARM_WEIGHT_NOISE = 0.1
 
 
 @dataclass(frozen=True)
-class SpeedResult:
+class SolverTiming:
+    """Median wall times (s) and IPOPT iterations of each kind of solve, and how many failed."""
+
     n_intervals: int
     build_s: float
     cold_median_s: float
@@ -54,7 +56,7 @@ def time_solver(
     multistart_repeats: int = 3,
     n_intervals: int = DEFAULT_INTERVALS,
     on_progress: Callable[[str], None] | None = None,
-) -> SpeedResult:
+) -> SolverTiming:
     """Time the three kinds of solve; see the module docstring."""
     say = on_progress or (lambda _msg: None)
     params, task = WalkerParams(), Task()
@@ -83,7 +85,7 @@ def time_solver(
         multi.append(time.perf_counter() - t0)
         say(f"multistart {i + 1}/{multistart_repeats}")
     failures = sum(not r.report.success for r in cold + warm)
-    return SpeedResult(
+    return SolverTiming(
         n_intervals=n_intervals,
         build_s=build,
         cold_median_s=statistics.median(r.report.wall_time for r in cold),
