@@ -203,6 +203,9 @@ class CaseResult:
             has no other speed or failed.
         scoring_time: seconds spent scoring after the algorithm (re-solving its weights'
             step, the transfer solve), not counted in ``wall_time``.
+        model_fit: the algorithm's test of whether its model fits the observation
+            (:class:`~ioc_bench.ioc.algorithm.ModelFit` as a dict), None if it reports none;
+            when ``model_fit["rejected"]`` the region is conditional on a model the data reject.
     """
 
     algorithm: str
@@ -233,11 +236,17 @@ class CaseResult:
     covered: bool | None = None
     transfer: dict[str, Any] | None = None
     scoring_time: float = 0.0
+    model_fit: dict[str, Any] | None = None
     version: str = __version__
 
     @property
     def failed(self) -> bool:
         return self.status == "failed"
+
+    @property
+    def misfit(self) -> bool | None:
+        """Whether the data reject the algorithm's model (None without a test)."""
+        return None if self.model_fit is None else bool(self.model_fit["rejected"])
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -468,6 +477,7 @@ def _score(base: dict, result: IOCResult, problem: IOCProblem | MultiTrialProble
         scoring_status=", ".join(r.status for r in regenerated),
         uncertainty=None if result.uncertainty is None else result.uncertainty.to_dict(),
         covered=None if result.uncertainty is None else result.uncertainty.contains(np.array(base["true_weights"])),
+        model_fit=None if result.model_fit is None else result.model_fit.to_dict(),
     )
 
 

@@ -89,6 +89,8 @@ def run(args: argparse.Namespace) -> int:
         "wall_time": result.wall_time,
         "iterations": len(result.history),
         "uncertainty": result.uncertainty,
+        "covered": result.covered,
+        "model_fit": result.model_fit,
         "result_file": str(args.out),
         "plot": str(plot),
     }
@@ -115,5 +117,19 @@ def _print(result, summary: dict) -> None:
     print(f"weights ({names})  estimated {fmt(result.weights)}  true {fmt(result.true_weights)}")
     print(f"weight error    {result.weight_error:.5f}")
     print(f"trajectory err. {result.trajectory_error:.4g}")
+    if result.uncertainty is not None:
+        region = ", ".join(
+            f"[{lo:.4f}, {hi:.4f}]" for lo, hi in zip(result.uncertainty["lower"], result.uncertainty["upper"])
+        )
+        held = "holds" if result.covered else "misses"
+        rejected = " (conditional on a model the data reject)" if result.misfit else ""
+        print(f"95 % region     {region}: {held} the truth{rejected}")
+    if result.model_fit is not None:
+        fit = result.model_fit
+        verdict = "the data reject the model" if fit["rejected"] else "the model fits"
+        print(
+            f"model fit       {verdict}: residual statistic {fit['statistic']:.3g} (threshold {fit['threshold']:.3g}; "
+            f"estimated noise {fit['noise_level']:.2g} of span)"
+        )
     print(f"cost            {result.n_solves} forward solves, {result.wall_time:.1f} s")
     print(f"wrote           {summary['result_file']} and {summary['plot']}")
