@@ -199,20 +199,16 @@ class SingleLevel(IOCAlgorithm):
         view = trials[0].forward
         nlp = _built(view.symbolic, _inequality_rows(*view.constraint_bounds()), len(trials), cfg.max_iterations)
         notes: dict = {"start_weights": [float(v) for v in w], "solves": []}
-        duals = None
+        duals, converged = None, True
         for t in cfg.relaxation:
             with problem.stats.timed("single_level_nlp"):
-                solved = _stage(nlp, trials, sols, duals, t, cfg, notes["solves"])
-            if solved is None:
+                z, duals, done = _stage(nlp, trials, sols, duals, t, cfg, notes["solves"])
+            anchored = _anchor(problem, nlp, z, _weights(nlp, view, z), history, notes) if z is not None else None
+            if anchored is None or (not done and _error(problem, anchored[1]) >= _error(problem, sols)):
+                converged = False
                 break
-            z, duals = solved
-            anchored = _anchor(problem, nlp, z, _weights(nlp, view, z), history, notes)
-            if anchored is None:
-                break
-            w, sols = anchored
-        stages = [e for e in notes["solves"] if ipopt.converged(e["status"])]
-        status = "converged" if len(stages) == len(cfg.relaxation) else "max_iterations"
-        return _answer(problem, w, sols, history, notes, status)
+            (w, sols), converged = anchored, converged and done
+        return _answer(problem, w, sols, history, notes, "converged" if converged else "max_iterations")
 
 
 def _failure(problem, status: str, history=(), notes=None) -> IOCResult:
@@ -242,7 +238,9 @@ def _start(problem, cfg: SingleLevelConfig, history: list) -> tuple[np.ndarray, 
 def _stage(nlp: _NLP, trials, sols, duals, t: float, cfg: SingleLevelConfig, log: list):
     """One solve of the NLP at relaxation ``t``, started at the KKT point ``sols`` (each
     trial's forward optimum and its duals; the candidates for activity are found there) and
-    at the NLP's own duals of the last stage; its solution and duals, or None."""
+    at the NLP's own duals of the last stage: its last iterate (None if not finite), its
+    duals (None unless it converged) and whether it converged. A solve that stops at its
+    iteration limit is anchored too, and kept only if that lowers the tracking error."""
     args = _arguments(nlp, trials, sols, cfg)
     p = args["p"].copy()
     p[:2] = (t, 0.0) if cfg.complementarity == "scholtes" else (0.0, 1.0 / t)
@@ -254,12 +252,11 @@ def _stage(nlp: _NLP, trials, sols, duals, t: float, cfg: SingleLevelConfig, log
     stats = nlp.solver.stats()
     status = str(stats.get("return_status"))
     log.append({"relaxation": t, "status": status, "iterations": int(stats.get("iter_count", -1))})
-    if not ipopt.converged(status):
-        return None
-    return np.asarray(sol["x"], dtype=float).ravel(), (
-        np.asarray(sol["lam_x"]).ravel(),
-        np.asarray(sol["lam_g"]).ravel(),
-    )
+    z = np.asarray(sol["x"], dtype=float).ravel()
+    if not np.all(np.isfinite(z)):
+        return None, None, False
+    done = ipopt.converged(status)
+    return z, ((np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel()) if done else None), done
 
 
 def _comp_bounds(args: dict, t: float, cfg: SingleLevelConfig) -> tuple[np.ndarray, np.ndarray]:
@@ -350,6 +347,11 @@ def _trial_point(nlp: _NLP, z: np.ndarray, k: int) -> StartPoint:
     nu = z[base + nlp.n_x : base + nlp.n_x + nlp.n_g]
     lam = z[base + nlp.n_x + nlp.n_g : base + nlp.trial_size]
     return StartPoint(x, lam, nu)
+
+
+def _error(problem, sols: list[OracleSolution]) -> float:
+    """The mean tracking error of one forward optimum per trial."""
+    return float(np.mean([t.tracking_error(s.trajectory) for t, s in zip(problem.trials, sols)]))
 
 
 def _anchor(problem, nlp: _NLP, z: np.ndarray, w: np.ndarray, history: list, notes: dict):
