@@ -225,6 +225,9 @@ class CaseResult:
             has no other speed or failed.
         scoring_time: seconds spent scoring after the algorithm (re-solving its weights'
             step, the transfer solve), not counted in ``wall_time``.
+        model_fit: the algorithm's test of whether its model fits the observation
+            (:class:`~ioc_bench.ioc.algorithm.ModelFit` as a dict), None if it reports none;
+            when ``model_fit["rejected"]`` the region is conditional on a model the data reject.
     """
 
     algorithm: str
@@ -255,6 +258,7 @@ class CaseResult:
     covered: bool | None = None
     transfer: dict[str, Any] | None = None
     scoring_time: float = 0.0
+    model_fit: dict[str, Any] | None = None
     version: str = __version__
 
     @property
@@ -264,6 +268,11 @@ class CaseResult:
     def headline(self) -> str:
         """The case's outcome in a few words (for progress lines)."""
         return f"FAILED ({self.reason})" if self.failed else f"weight error {self.weight_error:.4f}"
+
+    @property
+    def misfit(self) -> bool | None:
+        """Whether the data reject the algorithm's model (None without a test)."""
+        return None if self.model_fit is None else bool(self.model_fit["rejected"])
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -486,6 +495,7 @@ def _score(base: dict, outcome: Fit, problem: IOCProblem | MultiTrialProblem) ->
         scoring_status=", ".join(r.status for r in regenerated),
         uncertainty=None if result.uncertainty is None else result.uncertainty.to_dict(),
         covered=None if result.uncertainty is None else result.uncertainty.contains(np.array(base["true_weights"])),
+        model_fit=None if result.model_fit is None else result.model_fit.to_dict(),
     )
 
 

@@ -84,6 +84,10 @@ class Cell:
     transfers: int
     transfer_error: float
     transfer_excess: float
+    tested: int = 0
+    flagged: int = 0
+    fitting_regions: int = 0
+    fitting_covered: int = 0
 
 
 def _mean(values: Sequence[float]) -> float:
@@ -122,6 +126,8 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
         enough = bool(strata) and min(len({r.seed for r in g}) for g in strata) >= MIN_SEEDS_FOR_CI
         checks = [c for c in (penalised_is_largest(r) for r in rs) if c is not None]
         regions = [r for r in ok if r.uncertainty is not None]
+        tested = [r for r in ok if r.misfit is not None]
+        fitting = [r for r in regions if r.misfit is False]
         moved = [r.transfer for r in ok if r.transfer and _scored_transfer(r.transfer)]
         cells.append(
             Cell(
@@ -150,6 +156,10 @@ def summarise(results: Sequence[CaseResult]) -> list[Cell]:
                 transfers=len(moved),
                 transfer_error=_mean([t["trajectory_error"] for t in moved]),
                 transfer_excess=_mean([t["excess_cost"] for t in moved]),
+                tested=len(tested),
+                flagged=sum(bool(r.misfit) for r in tested),
+                fitting_regions=len(fitting),
+                fitting_covered=sum(bool(r.covered) for r in fitting),
             )
         )
     return cells
@@ -302,32 +312,57 @@ def _synthetic_sections(results: Sequence[CaseResult]) -> list[str]:
 
 
 def _calibration(cells: Sequence[Cell]) -> list[str]:
-    """How well each algorithm's 95 % regions cover the truth, over every successful case."""
+    """How well each algorithm's 95 % regions cover the truth, over every successful case and
+    over the cases whose model the misfit test does not reject; and how often it rejects."""
     by: dict[tuple[str, str], list[Cell]] = defaultdict(list)
     for c in cells:
         by[(c.model, c.label)].append(c)
+    share = lambda cov, n: f"{cov / n:.2f} ({cov}/{n})" if n else "-"  # noqa: E731
     lines = [
         "## Calibration of the 95 % weight regions",
         "",
         "Share of successful cases whose region holds the true weights (a calibrated 95 % region: about 0.95), "
-        "with the number of cases behind it, and the mean width; noise conditions apart.",
+        "with the number of cases behind it, and the mean width; noise conditions apart; and over the cases "
+        "whose model fits the observation (the algorithm's misfit test: its residual against the noise "
+        "estimated from the observation; a region of a rejected model is conditional on it).",
         "",
-        "| model | algorithm | all conditions | noise conditions | mean width |",
-        "|---|---|---|---|---|",
+        "| model | algorithm | all conditions | noise conditions | model not rejected | mean width |",
+        "|---|---|---|---|---|---|",
     ]
     for (model, label), cs in by.items():
         regions = sum(c.regions for c in cs)
         if not regions:
-            lines.append(f"| {model} | {label} | reports no region | - | - |")
+            lines.append(f"| {model} | {label} | reports no region | - | - | - |")
             continue
         noisy = [c for c in cs if "noise" in c.condition]
         n_noisy = sum(c.regions for c in noisy)
-        share = lambda cov, n: f"{cov / n:.2f} ({cov}/{n})" if n else "-"  # noqa: E731
+        fitting = share(sum(c.fitting_covered for c in cs), sum(c.fitting_regions for c in cs))
         width = _mean([c.region_width for c in cs if c.regions])
         lines.append(
             f"| {model} | {label} | {share(sum(c.covered for c in cs), regions)} | "
-            f"{share(sum(c.covered for c in noisy), n_noisy)} | {_fmt(width, 3)} |"
+            f"{share(sum(c.covered for c in noisy), n_noisy)} | {fitting} | {_fmt(width, 3)} |"
         )
+    return [*lines, "", *_misfit_shares(cells)]
+
+
+def _misfit_shares(cells: Sequence[Cell]) -> list[str]:
+    """The share of tested cases whose model the misfit test rejects, per condition."""
+    tested = [c for c in cells if c.tested]
+    if not tested:
+        return ["No algorithm here tests whether its model fits the observation."]
+    conditions = list(dict.fromkeys(c.condition for c in tested))
+    labels = list(dict.fromkeys((c.model, c.label) for c in tested))
+    found = {(c.model, c.label, c.condition): c for c in tested}
+    lines = [
+        "Share of cases whose model the misfit test rejects, per condition (flagged / tested):",
+        "",
+        "| model | algorithm | " + " | ".join(conditions) + " |",
+        "|---|---|" + "---|" * len(conditions),
+    ]
+    for model, label in labels:
+        row = [found.get((model, label, cond)) for cond in conditions]
+        text = [f"{c.flagged / c.tested:.2f} ({c.flagged}/{c.tested})" if c else "-" for c in row]
+        lines.append(f"| {model} | {label} | " + " | ".join(text) + " |")
     return lines
 
 
@@ -391,6 +426,7 @@ def _case_table(results: Sequence[CaseResult]) -> list[str]:
     for label, r in labelled:
         w = ", ".join(f"{x:.3f}" for x in r.weights) if not r.failed else "-"
         covered = "-" if r.covered is None else ("yes" if r.covered else "no")
+        covered += " (model rejected)" if r.misfit else ""
         lines.append(
             f"| {r.model} | {label} | {r.weight_set} | {r.condition} | {r.seed} | {_cell_text(r.status)} | "
             f"{w} ({', '.join(r.features)}) | {_fmt(r.weight_error)} | {_sci(r.trajectory_error)} | {covered} | "

@@ -38,8 +38,8 @@ from ioc_bench.bench.protocol import Case, Record, Track
 from ioc_bench.checks import TypeMismatch, check_seed, coerce, load_json, one_line, shown
 from ioc_bench.features import FEATURES
 from ioc_bench.fileio import atomic_write_json, remove_temporaries, to_jsonable
-from ioc_bench.ioc.algorithm import WeightRegion
-from ioc_bench.ioc.contract import MAX_STATUS, check_region
+from ioc_bench.ioc.algorithm import ModelFit, WeightRegion
+from ioc_bench.ioc.contract import MAX_STATUS, check_model_fit, check_region
 from ioc_bench.ioc.registry import NAME_PATTERN, check_algorithm_name, config_overrides, make_algorithm
 from ioc_bench.paths import PathError, check_input_dir, check_inside, check_path_text, read_bytes
 from ioc_bench.processes import hold_across_fork
@@ -285,6 +285,7 @@ def check_result(result: CaseResult) -> None:
     _check_numbers(result)
     _check_derived(result)
     _check_region(result)
+    _check_model_fit(result)
     _check_transfer(result)
     if not STATUS_PATTERN.fullmatch(result.status):
         raise ValueError(f"status must be one line of 1 to {MAX_STATUS} characters, got {shown(result.status)}")
@@ -380,6 +381,21 @@ def _check_region(result: CaseResult) -> None:
         raise ValueError(
             f"covered is {shown(result.covered)} but the region {'holds' if holds else 'misses'} the true weights"
         )
+
+
+_FIT_KEYS = {"rejected", "statistic", "threshold", "noise_level", "tracking_error", "method"}
+
+
+def _check_model_fit(result: CaseResult) -> None:
+    """The misfit test, if any, is a valid :class:`ModelFit` (every field, nothing else)."""
+    data = result.model_fit
+    if data is None:
+        return
+    if not isinstance(data, dict) or set(data) != _FIT_KEYS:
+        raise ValueError(f"model_fit must have the fields {sorted(_FIT_KEYS)}, got {shown(sorted(data))}")
+    reason = check_model_fit(ModelFit(**data))
+    if reason:
+        raise ValueError(reason)
 
 
 def _check_transfer(result: CaseResult) -> None:

@@ -98,8 +98,16 @@ def _print(result, summary: dict) -> None:
     print(f"trajectory err. {result.trajectory_error:.4g}")
     region = result.uncertainty
     if region is not None:
-        holds = "holds" if result.covered else "does not hold"
-        print(f"95 % region     lower {fmt(region['lower'])}  upper {fmt(region['upper'])}: {holds} the truth")
+        held = "holds" if result.covered else "does not hold"
+        rejected = " (conditional on a model the data reject)" if result.misfit else ""
+        print(f"95 % region     lower {fmt(region['lower'])}  upper {fmt(region['upper'])}: {held} the truth{rejected}")
+    if result.model_fit is not None:
+        fit = result.model_fit
+        verdict = "the data reject the model" if fit["rejected"] else "the model fits"
+        print(
+            f"model fit       {verdict}: residual statistic {fit['statistic']:.3g} (threshold {fit['threshold']:.3g}; "
+            f"estimated noise {fit['noise_level']:.2g} of span)"
+        )
     moved = result.transfer
     if moved is not None:
         scored = isinstance(moved.get("trajectory_error"), (int, float))

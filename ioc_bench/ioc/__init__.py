@@ -1,6 +1,14 @@
 """Inverse optimal control: the problem, the algorithm interface, the registry."""
 
-from ioc_bench.ioc.algorithm import API_VERSION, FAMILIES, IOCAlgorithm, IOCResult, IterationRecord, WeightRegion
+from ioc_bench.ioc.algorithm import (
+    API_VERSION,
+    FAMILIES,
+    IOCAlgorithm,
+    IOCResult,
+    IterationRecord,
+    ModelFit,
+    WeightRegion,
+)
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import (
@@ -20,6 +28,7 @@ __all__ = [
     "IOCProblem",
     "IOCResult",
     "IterationRecord",
+    "ModelFit",
     "OracleSolution",
     "WeightRegion",
     "algorithms",

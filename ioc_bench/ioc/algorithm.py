@@ -22,8 +22,9 @@ from ioc_bench.ioc.problem import IOCProblem
 #: release (``IterationRecord(weights, trajectory_error, solve_status, cost_gap, extra)``);
 #: 2: ``IterationRecord(weights, tracking_error, trajectory_error, solve_status, extra)``
 #: and the differentiable view; 3: keyword-only additions from here on (``IOCResult``'s
-#: ``uncertainty``, multi-trial problems), API 1 records read as API 1 meant them.
-API_VERSION = 3
+#: ``uncertainty``, multi-trial problems), API 1 records read as API 1 meant them; 4:
+#: ``IOCResult``'s ``model_fit`` (:class:`ModelFit`: does the model fit the observation).
+API_VERSION = 4
 
 #: Method families (``IOCAlgorithm.family``): ``cutting-plane`` (cuts from forward solves,
 #: e.g. the paper's), ``inverse-kkt`` (optimality residual at the observation), ``bilevel``
@@ -167,6 +168,37 @@ class WeightRegion:
 
 
 @dataclass(frozen=True)
+class ModelFit:
+    """Whether the model fits the observation: the fit's tracking residual tested against the
+    noise level estimated from the observation itself.
+
+    A model that can produce the observation leaves a residual of the noise's size; a wrong
+    model (a mass or speed error) leaves more. A region computed from the residual's spread
+    describes noise around a model, so when the data reject the model the region is
+    conditional on a model they reject.
+
+    Attributes:
+        rejected: the data reject the model (``statistic > threshold``, as the method judged).
+        statistic: the test statistic (the residual's mean square over the estimated noise
+            variance: about 1 when the model fits noisy data, below 1 for exact data).
+        threshold: the statistic's largest value that still fits.
+        noise_level: the estimated noise, a fraction of each measured signal's span.
+        tracking_error: the fit's tracking error (mean over trials for several).
+        method: how it was tested, in a few words.
+    """
+
+    rejected: bool
+    statistic: float
+    threshold: float
+    noise_level: float
+    tracking_error: float
+    method: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
 class IOCResult:
     """What an algorithm returns.
 
@@ -179,6 +211,8 @@ class IOCResult:
         notes: free-form numbers or text the algorithm wants in the record (JSON values).
         uncertainty: a :class:`WeightRegion` saying how sure the estimate is, or None
             (keyword only; API 3).
+        model_fit: a :class:`ModelFit` saying whether the model fits the observation, or
+            None (keyword only; API 4).
     """
 
     weights: np.ndarray
@@ -187,6 +221,7 @@ class IOCResult:
     chosen_iteration: int | None = None
     notes: dict[str, Any] = field(default_factory=dict)
     uncertainty: WeightRegion | None = field(default=None, kw_only=True)
+    model_fit: ModelFit | None = field(default=None, kw_only=True)
 
 
 class IOCAlgorithm:

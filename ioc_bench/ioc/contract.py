@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.checks import shown
-from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, WeightRegion
+from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, ModelFit, WeightRegion
 from ioc_bench.weights import weight_fault
 
 #: Longest status text kept (a status is a word or ``failed: <reason>``).
@@ -61,6 +61,8 @@ def _result(result: Any, n: int) -> None:
     _json(result.notes, "notes")
     if result.uncertainty is not None:
         _region(result.uncertainty, n)
+    if result.model_fit is not None:
+        _model_fit(result.model_fit)
 
 
 def _record(record: Any, n: int, where: str) -> None:
@@ -106,6 +108,28 @@ def _region(region: Any, n: int) -> None:
         if cov.shape != (n, n) or not np.all(np.isfinite(cov)) or not np.allclose(cov, cov.T, atol=1e-12):
             raise ContractError(f"uncertainty.covariance must be a finite symmetric {n} x {n} matrix")
     _text(region.method, "uncertainty.method", empty=True)
+
+
+def check_model_fit(fit: Any) -> str:
+    """The reason ``fit`` is not a valid :class:`ModelFit`, or "" if it is (used for a test
+    read back from a result file too)."""
+    try:
+        _model_fit(fit)
+    except ContractError as exc:
+        return str(exc)
+    return ""
+
+
+def _model_fit(fit: Any) -> None:
+    if not isinstance(fit, ModelFit):
+        raise ContractError(f"model_fit must be a ModelFit or None, got {type(fit).__name__}")
+    if not isinstance(fit.rejected, (bool, np.bool_)):
+        raise ContractError(f"model_fit.rejected must be True or False, got {shown(fit.rejected)}")
+    for name in ("statistic", "threshold", "noise_level", "tracking_error"):
+        value = getattr(fit, name)
+        if not _real(value) or not math.isfinite(value) or value < 0:
+            raise ContractError(f"model_fit.{name} must be a finite number >= 0, got {shown(value)}")
+    _text(fit.method, "model_fit.method", empty=True)
 
 
 def _numbers(value: Any, n: int, name: str) -> np.ndarray:

@@ -32,7 +32,7 @@ def test_inverse_kkt_uses_one_projection_and_no_forward_solve(penalize_knee_cach
     assert result.found_trajectory_error is None  # no step of its own to report
 
 
-@pytest.mark.parametrize("algorithm", ["inverse-kkt", "bilevel", "log-barrier", "analytic-center"])
+@pytest.mark.parametrize("algorithm", ["inverse-kkt", "bilevel", "single-level", "log-barrier", "analytic-center"])
 def test_every_built_in_reports_a_region_that_holds_an_exact_estimate(algorithm, penalize_knee_cached):
     result = ioc_bench.run_case(algorithm, "penalize-knee", "ideal", seed=0)
     region = result.uncertainty
@@ -58,7 +58,7 @@ def test_an_exact_estimate_transfers_to_the_other_speed(penalize_knee_cached):
     assert result.transfer["speed"] == 0.34 and result.transfer["trajectory_error"] < 1e-4
 
 
-@pytest.mark.parametrize("algorithm", ["inverse-kkt", "bilevel"])
+@pytest.mark.parametrize("algorithm", ["inverse-kkt", "bilevel", "single-level"])
 def test_multi_trial_ioc_explains_both_speeds_with_one_weight_vector(algorithm, penalize_knee_cached):
     result = ioc_bench.run_case(algorithm, "penalize-knee", "multi-speed", seed=0)
     assert result.status == "converged" and result.weight_error < 1e-3, (result.reason, result.weight_error)
@@ -80,3 +80,22 @@ def test_an_algorithm_without_multi_trial_support_is_recorded_as_failed(penalize
     finally:
         registry._REGISTRY.pop("single-trial-only")
     assert result.failed and "several trials" in result.reason
+
+
+@pytest.mark.parametrize("algorithm", ["bilevel", "single-level"])
+def test_a_fitted_model_of_exact_data_is_not_rejected(algorithm, penalize_knee_cached):
+    """The misfit test of an exact observation: the residual is far below any noise."""
+    result = ioc_bench.run_case(algorithm, "penalize-knee", "ideal", seed=0)
+    assert result.misfit is False, result.model_fit
+    assert result.model_fit["statistic"] < 1e-2 and result.model_fit["threshold"] > 1
+
+
+def test_single_level_starts_at_a_kkt_point_and_ends_at_a_verified_optimum(penalize_knee_cached):
+    """Its start is a forward optimum (uniform or inverse-KKT weights, warm from the reference),
+    every stage is anchored by a forward solve of its weights, and the output is the last one."""
+    result = ioc_bench.run_case("single-level", "penalize-knee", "ideal", seed=0)
+    stages = [h["extra"].get("stage") for h in result.history]
+    assert stages[:2] == ["start", "start"] and stages[-1] == "anchor", stages
+    assert result.chosen_iteration == len(result.history) - 1
+    assert [s["relaxation"] for s in result.notes["solves"]] == [1e-3, 1e-6]
+    assert result.notes["tracking_error"] < 1e-8

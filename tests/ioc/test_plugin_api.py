@@ -1,6 +1,6 @@
 """The plugin API holds across releases, and whatever a plugin returns is checked at the boundary.
 
-The plugins in ``plugin_pkg/`` are written to API 1, 2 and 3 and installed here as a package
+The plugins in ``plugin_pkg/`` are written to API 1, 2, 3 and 4 and installed here as a package
 (its files and a ``.dist-info`` with the entry points, which is what ``pip install`` leaves),
 then run through each entry point: ``run_case``, ``ioc-bench ioc`` and the suite runner.
 """
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import ioc_bench
-from ioc_bench import IOCResult, IterationRecord, WeightRegion, run_case
+from ioc_bench import IOCResult, IterationRecord, ModelFit, WeightRegion, run_case
 from ioc_bench.bench.case import CaseSpec
 from ioc_bench.bench.results import load_results
 from ioc_bench.bench.runner import run_cases
@@ -41,6 +41,9 @@ MALFORMED = [
     "region-wrong-size",
     "nan-weights",
     "not-a-result",
+    "fit-not-a-model-fit",
+    "fit-nan-statistic",
+    "fit-rejected-not-bool",
 ]
 
 
@@ -89,7 +92,7 @@ def test_api2_and_keyword_records_need_no_warning():
 
 
 def test_the_api_version_is_published():
-    assert ioc_bench.API_VERSION == 3
+    assert ioc_bench.API_VERSION == 4
 
 
 @pytest.mark.parametrize("kind", MALFORMED)
@@ -110,8 +113,12 @@ def test_the_contract_catches_each_malformed_answer(kind):
         "region-wrong-size": IOCResult(w, uncertainty=WeightRegion((0.0,), (1.0,))),
         "nan-weights": IOCResult(np.full(2, np.nan)),
         "not-a-result": {"weights": w},
+        "fit-not-a-model-fit": IOCResult(w, model_fit={"rejected": False}),
+        "fit-nan-statistic": IOCResult(w, model_fit=ModelFit(False, float("nan"), 2.0, 0.05, 0.0025)),
+        "fit-rejected-not-bool": IOCResult(w, model_fit=ModelFit("no", 1.0, 2.0, 0.05, 0.0025)),
     }
     assert contract_breach(IOCResult(w, history=(good,), chosen_iteration=0), 2) == ""
+    assert contract_breach(IOCResult(w, model_fit=ModelFit(False, 1.0, 2.0, 0.05, 0.0025)), 2) == ""
     reason = contract_breach(answers[kind], 2)
     assert reason and "\n" not in reason
 
@@ -128,6 +135,17 @@ def test_plugins_of_every_api_version_run_through_run_case(site, demo):
         assert result.n_solves >= 2
     region = run_case("api3-with-region", "penalize-knee", "ideal", 0, demo=demo).uncertainty
     assert region["lower"] == [0.0, 0.0, 0.0] or tuple(region["lower"]) == (0.0, 0.0, 0.0)
+
+
+def test_an_api4_plugin_reports_its_model_fit_and_older_ones_report_none(site, demo):
+    """The misfit test travels to the record (the region then conditional on it); a plugin
+    written before it existed runs unchanged and reports no test."""
+    result = run_case("api4-with-model-fit", "penalize-knee", "ideal", 0, demo=demo)
+    assert not result.failed, result.reason
+    assert result.misfit is True and result.model_fit["method"] == "rejects every model"
+    assert result.covered is True  # the region still holds the truth; it is conditional on a rejected model
+    older = run_case("api3-with-region", "penalize-knee", "ideal", 0, demo=demo)
+    assert older.model_fit is None and older.misfit is None
 
 
 @pytest.mark.parametrize("kind", ["fields-in-wrong-order", "dict-record", "string-weights", "notes-not-json"])
