@@ -90,9 +90,9 @@ HUMAN_SUITES: dict[str, HumanSuite] = {
         HumanSuite(
             "human-unshipped",
             "subjects the package does not ship (needs --data: a WBDS folder): young adults WBDS04, WBDS10, "
-            "older adults WBDS30, WBDS40, each of T03 and T05 predicting the other",
+            "older adults WBDS30, WBDS40, each trained at T03 and at T05, predicting the other three speeds",
             UNSHIPPED_SUBJECTS,
-            (Design(("T03",), ("T05",)), Design(("T05",), ("T03",))),
+            (one_speed("T03"), one_speed("T05")),
         ),
         HumanSuite(
             "human",
