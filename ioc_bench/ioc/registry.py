@@ -168,7 +168,7 @@ def get_algorithm(name: str) -> type[IOCAlgorithm]:
             if ep.name == name and _load_plugin(ep):
                 break
     if name not in _REGISTRY:
-        raise AlgorithmError(f"unknown algorithm {shown(name)}; valid: {', '.join(_loadable())}")
+        raise AlgorithmError(f"unknown algorithm {shown(name)}; valid: {', '.join(sorted(_loadable()))}")
     return _REGISTRY[name]
 
 
