@@ -13,7 +13,7 @@ Z right, mm):
 
 Masses, centres of mass and radii of gyration are Winter's (2009, *Biomechanics and Motor
 Control of Human Movement*, 4th ed., Table 4.1, after Dempster), the table the default
-walker was scaled from (SPEC section 1): HAT 0.678, thigh 0.100, leg 0.0465 and foot 0.0145
+walker was scaled from (docs/spec.md, "Segment parameters"): HAT 0.678, thigh 0.100, leg 0.0465 and foot 0.0145
 of the body mass. The torso (head, arms and trunk) length is hip to shoulder, 0.288 of
 body height (Winter's Figure 4.1, after Drillis & Contini: shoulder 0.818 H, greater
 trochanter 0.530 H), because WBDS has no trunk markers. The foot is a mass at Winter's
