@@ -41,12 +41,18 @@ def run_floors(records: Sequence[HumanResult]) -> dict[tuple[str, str], float]:
 
 
 def summarize(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
-    """One row per (algorithm, design), in order of first appearance (see the module docstring)."""
+    """One row per (algorithm, design), by algorithm, then one speed, two, ..., population."""
     floors = run_floors(records)
     groups: dict[tuple[str, str], list[HumanResult]] = {}
     for record in records:
         groups.setdefault((record.algorithm, record.design), []).append(record)
-    return [_row(algorithm, design, cases, floors) for (algorithm, design), cases in groups.items()]
+    order = sorted(groups, key=lambda key: (key[0], _design_rank(groups[key][0])))
+    return [_row(algorithm, design, groups[algorithm, design], floors) for algorithm, design in order]
+
+
+def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
+    """Fewer training speeds first, then more predicted; the population design last."""
+    return (bool(record.population), len(record.also_train), -len(record.predict))
 
 
 def _row(algorithm: str, design: str, cases: Sequence[HumanResult], floors) -> dict[str, Any]:

@@ -213,6 +213,21 @@ def test_the_run_summary_takes_its_floor_from_every_case_and_counts_losses() -> 
     assert "| a | one speed | 1 | 0 | 7.00 | 6.00 | 10.00 | 3.00 | 1/1 | 0/1 |" in table
 
 
+def test_the_summary_orders_rows_by_algorithm_then_design_whatever_order_the_files_came_in() -> None:
+    two = _record(
+        HumanCaseSpec("WBDS01", "T04", ("T03", "T06"), "a", also_train=("T05",)),
+        {"T04": 7.0, "T05": 7.0, "T03": 6.0, "T06": 6.0},
+    )
+    one = _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "a"), {"T05": 7.0, "T04": 6.0})
+    other = _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "0-first"), {"T05": 7.0, "T04": 6.0})
+    rows = summarize([two, one, other])
+    assert [(r["algorithm"], r["design"]) for r in rows] == [
+        ("0-first", "one speed"),
+        ("a", "one speed"),
+        ("a", "two speeds"),
+    ]
+
+
 def test_the_weight_spread_over_single_speed_training() -> None:
     cases = [_record(HumanCaseSpec("WBDS01", t, ("T04",), "a"), {t: 7.0, "T04": 6.0}) for t in ("T05", "T06")]
     cases[1] = dataclasses.replace(cases[1], weights=(0.0, 0.6, 0.8))
