@@ -93,11 +93,8 @@ def test_the_suites() -> None:
     ]
 
 
-def test_an_algorithm_for_one_trial_given_several_is_a_recorded_failure(monkeypatch) -> None:
-    from ioc_bench.ioc.registry import get_algorithm
-
-    monkeypatch.setattr(get_algorithm("inverse-kkt"), "multi_trial", False)  # as a plugin for one trial
-    spec = HumanCaseSpec("WBDS01", "T05", ("T04",), "inverse-kkt", also_train=("T06",))
+def test_an_algorithm_for_one_trial_given_several_is_a_recorded_failure(one_trial_algorithm) -> None:
+    spec = HumanCaseSpec("WBDS01", "T05", ("T04",), one_trial_algorithm, also_train=("T06",))
     record = spec.run({})
     assert record.failed and "multi_trial is False" in record.reason
     assert record.n_solves == 0 and record.scores == {}

@@ -21,15 +21,12 @@ def test_plot_human_fits_needs_panels(tmp_path) -> None:
     assert not (tmp_path / "fits.png").exists()
 
 
-def test_a_case_figure_shows_every_speed_even_without_a_walker_step(tmp_path, monkeypatch) -> None:
+def test_a_case_figure_shows_every_speed_even_without_a_walker_step(tmp_path, one_trial_algorithm) -> None:
     """A failed case (no scores) still draws the person's steps."""
     from ioc_bench.human.case import HumanCaseSpec
     from ioc_bench.human.figures import plot_human_case
-    from ioc_bench.ioc.registry import get_algorithm
-
-    monkeypatch.setattr(get_algorithm("inverse-kkt"), "multi_trial", False)  # fails at once with two trials
 
     humans = {code: load_step("WBDS01", code).angles for code in ("T05", "T04")}
-    record = HumanCaseSpec("WBDS01", "T05", ("T04",), "inverse-kkt", also_train=("T06",)).run({})
+    record = HumanCaseSpec("WBDS01", "T05", ("T04",), one_trial_algorithm, also_train=("T06",)).run({})
     assert record.failed and record.scores == {}
     assert plot_human_case(record, humans, tmp_path / "case.png").read_bytes()[:4] == b"\x89PNG"
