@@ -7,6 +7,7 @@ folder, a folder moved or replaced during a run, a worker that dies, a full disk
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import json
 import os
@@ -128,24 +129,51 @@ def test_a_worker_whose_parent_died_before_it_asked_exits_at_once():
 
 
 @pytest.mark.slow
-def test_kill_or_interrupt_during_the_multistart_leaves_no_orphan(tmp_path):
-    """``ioc-bench gait`` killed (SIGKILL) or interrupted (SIGINT) while its pool solves starts."""
+def _pool_workers(pid: int) -> list[int]:
+    """Children of ``pid`` forked from it (same command line): its pool, not a helper it ran."""
+    cmdline = Path(f"/proc/{pid}/cmdline").read_bytes()
+    workers = []
+    for child in _children(pid):
+        with contextlib.suppress(OSError):
+            if Path(f"/proc/{child}/cmdline").read_bytes() == cmdline:
+                workers.append(child)
+    return workers
+
+
+def _start_gait(tmp_path: Path, name: str) -> tuple[subprocess.Popen, list[int]]:
+    """``ioc-bench gait`` with a 6-start pool of 2 workers, returned once both workers run."""
     env = os.environ | {"IOC_BENCH_CACHE": str(tmp_path / "cache")}
-    for sig in (signal.SIGKILL, signal.SIGINT):
-        out = tmp_path / f"demo-{sig}.npz"
-        cmd = [sys.executable, "-m", "ioc_bench.cli", "gait", "--starts", "6", "--workers", "2", "--out", str(out)]
-        proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and len(_children(proc.pid)) < 2:
-            time.sleep(0.2)
-        workers = _children(proc.pid)
-        assert len(workers) >= 2, "the multi-start pool never started"
-        os.kill(proc.pid, sig)
-        code = proc.wait(timeout=30)
-        assert _wait_gone(workers) == [], f"workers outlived {sig!r}"
-        if sig == signal.SIGINT:
-            assert code == 130 and "Traceback" not in proc.stderr.read()
-        assert not out.exists()
+    cmd = [sys.executable, "-m", "ioc_bench.cli", "gait", "--starts", "6", "--workers", "2"]
+    proc = subprocess.Popen(
+        [*cmd, "--out", str(tmp_path / name)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None and len(_pool_workers(proc.pid)) < 2:
+        time.sleep(0.05)
+    workers = _pool_workers(proc.pid)
+    assert len(workers) >= 2, "the multi-start pool never started"
+    return proc, workers
+
+
+@pytest.mark.parametrize(
+    ("sig", "after"),
+    [(signal.SIGKILL, 0.0), (signal.SIGINT, 0.0), (signal.SIGINT, 0.5), (signal.SIGINT, 1.5)],
+    ids=["kill", "interrupt-at-pool-start", "interrupt-0.5s-in", "interrupt-1.5s-in"],
+)
+def test_kill_or_interrupt_during_the_multistart_leaves_no_orphan(tmp_path, sig, after):
+    """``ioc-bench gait`` killed (SIGKILL) or interrupted (SIGINT) while its pool solves starts:
+    no worker outlives it, no output is written, and Ctrl-C is exit code 130 without a traceback.
+    The signal is sent only while the pool's workers are seen running (a start takes seconds)."""
+    proc, workers = _start_gait(tmp_path, "demo.npz")
+    time.sleep(after)
+    assert proc.poll() is None and _pool_workers(proc.pid), "the pool ended before the signal: not this test's case"
+    os.kill(proc.pid, sig)
+    code = proc.wait(timeout=30)
+    assert _wait_gone(workers) == [], f"workers outlived {sig!r}"
+    if sig == signal.SIGINT:
+        stderr = proc.stderr.read()
+        assert (code, stderr.strip()) == (130, "interrupted"), stderr
+    assert not (tmp_path / "demo.npz").exists()
 
 
 def test_a_dead_multistart_worker_is_one_clear_error(monkeypatch):
