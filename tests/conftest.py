@@ -33,6 +33,14 @@ def nominal_demo() -> Demonstration:
 
 
 @pytest.fixture(scope="session")
+def rolling_feet_demo() -> Demonstration:
+    """The nominal-weights step of the rolling-feet model at speed 0.27, best of 3 starts."""
+    from ioc_bench.model.feet import ROLLING_FEET
+
+    return optimize_gait("nominal", task=Task(0.27), starts=3, workers=1, model=ROLLING_FEET)
+
+
+@pytest.fixture(scope="session")
 def heavy_legs_demo() -> Demonstration:
     """The nominal-weights step of a walker with 10 % heavier legs (the "mass" variant)."""
     demo = optimize_gait("nominal", params=WalkerParams().with_leg_mass_scale(1.1), starts=1, seed=0, workers=1)

@@ -42,6 +42,7 @@ from envs.checks.physics_checks import (
 from envs.tracking import PDGains
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.walker import WALKER
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +93,20 @@ class ReplayReport:
         }
 
 
+#: The gait models that have a MuJoCo model (``ioc_bench.model.mjcf``) to check and replay in.
+REPLAYABLE_MODELS = (WALKER.name,)
+
+
+def check_replayable(demo: Demonstration) -> None:
+    """``ValueError`` unless ``demo``'s gait model has a MuJoCo model (the other models of the
+    catalogue have none yet: their demonstrations are verified by the optimizer only)."""
+    if demo.model not in REPLAYABLE_MODELS:
+        raise ValueError(
+            f"a {demo.model!r} demonstration cannot be replayed: only the {', '.join(REPLAYABLE_MODELS)} "
+            "model has a MuJoCo model so far"
+        )
+
+
 def replay(
     demo: Demonstration,
     steps: int = DEFAULT_STEPS,
@@ -106,10 +121,11 @@ def replay(
     is the physical checks'.
 
     Raises:
-        ValueError: if ``steps < 1``.
+        ValueError: if ``steps < 1``, or if ``demo`` is of a gait model that has no MuJoCo model.
     """
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
+    check_replayable(demo)
     inverse_dynamics = inverse_dynamics_check(demo, params)
     checks = physics_checks(demo, inverse_dynamics, params)
     try:
@@ -124,12 +140,14 @@ __all__ = [
     "FEEDBACK_SHARE_LIMIT",
     "ID_TOLERANCE",
     "INEQUALITY_TOL",
+    "REPLAYABLE_MODELS",
     "TIMING_TOL",
     "ClosedLoopResult",
     "InverseDynamicsResult",
     "OpenLoopResult",
     "PhysicsCheck",
     "ReplayReport",
+    "check_replayable",
     "closed_loop_replay",
     "ground_force_checks",
     "inverse_dynamics_check",

@@ -65,6 +65,11 @@ def run(args: argparse.Namespace) -> int:
     for path in args.demos:
         with usage_errors():
             demos.append((path, Demonstration.load(path)))  # every problem with a file is a DemonstrationFileError
+    from envs.checks import check_replayable  # lazily: ioc_bench must not need envs (or MuJoCo) to import
+
+    for path, demo in demos:  # every demonstration checked before the first replay
+        with usage_errors(f"{path}: "):
+            check_replayable(demo)
     if args.out is not None:
         output_dir(args.out)
     for path, _demo in demos:  # every file the replays write, checked before the first replay

@@ -214,3 +214,14 @@ def test_every_output_file_is_checked_before_the_first_replay(demo_file, tmp_pat
     (tmp_path / "nominal_replay.gif").mkdir()
     err = _bad_exit(["replay", demo_file, "--out", str(tmp_path)], capsys)
     assert "nominal_replay.gif is a directory" in err
+
+
+def test_a_demonstration_of_a_model_without_mujoco_model_is_one_line_before_any_replay(
+    rolling_feet_demo: Demonstration, demo_file: str, tmp_path, capsys
+):
+    """A rolling-feet step has no MuJoCo model to be checked in: refused by name, exit 2, and
+    refused before the walker's demonstration listed first is replayed (nothing written)."""
+    other = str(rolling_feet_demo.save(tmp_path / "feet.npz"))
+    err = _bad_exit(["replay", demo_file, other, "--no-video", "--out", str(tmp_path / "out")], capsys)
+    assert "feet.npz: a 'rolling-feet' demonstration cannot be replayed: only the walker model" in err
+    assert not (tmp_path / "out").exists()  # refused before the output folder is made

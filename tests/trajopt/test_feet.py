@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ioc_bench import Demonstration, Task, optimize_gait
-from ioc_bench.model.feet import ROLLING_FEET, footed_linkage
+from ioc_bench import Demonstration
+from ioc_bench.model.feet import footed_linkage
 from ioc_bench.model.linkage import ground_gap
 
 
 @pytest.fixture(scope="module")
-def feet_demo() -> Demonstration:
-    return optimize_gait("nominal", task=Task(0.27), starts=3, workers=1, model=ROLLING_FEET)
+def feet_demo(rolling_feet_demo: Demonstration) -> Demonstration:
+    return rolling_feet_demo
 
 
 def test_rolling_feet_walk_a_periodic_step_that_is_a_local_minimum(feet_demo):
