@@ -9,10 +9,12 @@ by :func:`load_json` (nesting bounded, so never a ``RecursionError``).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import types
 import typing
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -206,6 +208,58 @@ def _coerce(value: Any, hint: Any, mode: _Mode) -> Any:
         except TypeMismatch:
             raise TypeMismatch(describe(hint, nonfinite)) from None
     return value
+
+
+def json_fields(
+    cls: type,
+    data: Any,
+    where: str = "",
+    extra: Mapping[str, Any] | None = None,
+    hints: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """The fields of the dataclass ``cls`` in the decoded JSON object ``data``, each checked
+    against its annotation (or its entry in ``hints``) by :func:`coerce`, NaN stored as null.
+
+    ``extra`` maps the keys a file may hold beside the fields to their annotations: checked,
+    then left out. ``ValueError`` naming the first problem (a field missing, a key unknown,
+    a value of the wrong type), prefixed by ``where`` (the part of the file it is in).
+    """
+    at = f"{where}: " if where else ""
+    if not isinstance(data, dict):
+        raise ValueError(f"{at}expected a JSON object, got {json_kind(data)}")
+    annotations = typing.get_type_hints(cls) | dict(hints or {})
+    extra = dict(extra or {})
+    required = [
+        f.name
+        for f in dataclasses.fields(cls)
+        if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+    ]
+    missing = [k for k in required if k not in data]
+    if missing:
+        raise ValueError(f"{at}missing field(s) {', '.join(missing)}")
+    unknown = [k for k in data if k not in annotations and k not in extra]
+    if unknown:
+        raise ValueError(f"{at}unknown field(s) {', '.join(one_line(str(k), 40) for k in unknown[:5])}")
+    values = {}
+    for key, value in data.items():
+        hint = annotations[key] if key in annotations else extra[key]
+        try:
+            checked = coerce(value, hint, nonfinite=True, max_int=None)
+        except TypeMismatch as exc:
+            raise ValueError(f"{where + '.' if where else ''}{key} must be {exc}, got {json_kind(value)}") from None
+        if key in annotations:
+            values[key] = checked
+    return values
+
+
+def json_kind(value: Any) -> str:
+    """What a JSON value is, as a message shows it: ``null``, a short literal, or its type."""
+    if value is None:
+        return "null"
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 128:
+        return shown(value)
+    text = json.dumps(value) if isinstance(value, (bool, int, float, str)) else type(value).__name__
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def describe(hint: Any, nonfinite: bool = False) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -15,6 +16,7 @@ from ioc_bench.checks import (
     check_count,
     check_seed,
     coerce,
+    json_fields,
     one_line,
     short_word,
 )
@@ -85,3 +87,36 @@ def test_one_line_cuts_in_the_middle_what_is_still_too_long():
     words = one_line(" ".join(["x" * 300] * 20)).split()
     assert all(len(w) <= MIN_WORD for w in words if w != "...")
     assert short_word("abcdefghij", 8) == "ab...hij" and short_word("abc", 8) == "abc"
+
+
+@dataclass(frozen=True)
+class _Record:
+    name: str
+    values: tuple[float, ...]
+    note: str = ""
+
+
+def test_json_fields_checks_each_field_against_its_annotation():
+    data = {"name": "a", "values": [1, None], "note": "x", "file_key": "k"}
+    values = json_fields(_Record, data, extra={"file_key": str})
+    assert values["name"] == "a" and values["note"] == "x" and "file_key" not in values
+    assert values["values"][0] == 1.0 and math.isnan(values["values"][1])  # NaN is stored as null
+    assert json_fields(_Record, {"name": "a", "values": []}, hints={"values": Any})["values"] == []
+
+
+@pytest.mark.parametrize(
+    ("data", "where", "message"),
+    [
+        ([1], "", "expected a JSON object, got list"),
+        ({"name": "a"}, "", "missing field(s) values"),
+        ({"name": "a", "values": [], "surprise": 1}, "", "unknown field(s) surprise"),
+        ({"name": 3, "values": []}, "", "name must be a string, got 3"),
+        ({"name": "a", "values": [], "file_key": 3}, "", "file_key must be a string, got 3"),
+        ({"name": "a"}, "scores[T03]", "scores[T03]: missing field(s) values"),
+        ({"name": "a", "values": "x"}, "scores[T03]", 'scores[T03].values must be a list of numbers, got "x"'),
+    ],
+)
+def test_json_fields_names_the_first_problem_and_where_it_is(data, where, message):
+    with pytest.raises(ValueError) as info:
+        json_fields(_Record, data, where, extra={"file_key": str})
+    assert str(info.value) == message

@@ -21,13 +21,11 @@ so a field added to :class:`CaseSpec` is compared too). One file is one case.
 from __future__ import annotations
 
 import contextlib
-import json
 import math
 import os
 import re
-import typing
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import MISSING, fields
+from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +33,7 @@ import numpy as np
 
 from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
 from ioc_bench.bench.protocol import Case, Record, Track
-from ioc_bench.checks import TypeMismatch, check_seed, coerce, load_json, one_line, shown
+from ioc_bench.checks import check_seed, json_fields, load_json, one_line, shown
 from ioc_bench.features import FEATURES
 from ioc_bench.fileio import atomic_write_json, remove_temporaries, to_jsonable
 from ioc_bench.ioc.algorithm import ModelFit, WeightRegion
@@ -229,24 +227,7 @@ def parse_result(data: Any) -> CaseResult:
     NaN stored as null), that no required field is missing and no unknown one present,
     and that every value is in range (:func:`check_result`).
     """
-    if not isinstance(data, dict):
-        raise ValueError(f"expected a JSON object, got {_json_kind(data)}")
-    hints = typing.get_type_hints(CaseResult)
-    required = [f.name for f in fields(CaseResult) if f.default is MISSING and f.default_factory is MISSING]
-    missing = [k for k in required if k not in data]
-    if missing:
-        raise ValueError(f"missing field(s) {', '.join(missing)}")
-    unknown = [k for k in data if k not in hints and k not in _FILE_FIELDS]
-    if unknown:
-        raise ValueError(f"unknown field(s) {', '.join(one_line(str(k), 40) for k in unknown[:5])}")
-    values = {}
-    for key, value in data.items():
-        try:
-            checked = coerce(value, hints.get(key) or _FILE_FIELDS[key], nonfinite=True, max_int=None)
-        except TypeMismatch as exc:
-            raise ValueError(f"{key} must be {exc}, got {_json_kind(value)}") from None
-        if key in hints:
-            values[key] = checked
+    values = json_fields(CaseResult, data, extra=_FILE_FIELDS)
     result = CaseResult(**values)
     check_result(result)
     return result
@@ -446,15 +427,6 @@ def _check_numbers(result: CaseResult) -> None:
     i = result.chosen_iteration
     if i is not None and not 0 <= i < len(result.history):
         raise ValueError(f"chosen_iteration must index the history ({len(result.history)} entries), got {shown(i)}")
-
-
-def _json_kind(value: Any) -> str:
-    if value is None:
-        return "null"
-    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 128:
-        return shown(value)
-    text = json.dumps(value) if isinstance(value, (bool, int, float, str)) else type(value).__name__
-    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _one_line(exc: BaseException) -> str:

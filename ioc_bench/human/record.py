@@ -12,14 +12,13 @@ of the three RMSEs, the wins the comparisons they name, the estimate of unit nor
 from __future__ import annotations
 
 import math
-import typing
-from dataclasses import MISSING, asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ioc_bench._version import __version__
-from ioc_bench.checks import TypeMismatch, coerce, shown
+from ioc_bench.checks import json_fields, shown
 from ioc_bench.human.scoring import SKILL_TOL, beats, skill_score
 
 #: The track's name, as result files record it.
@@ -169,42 +168,20 @@ def design_of(n_training: int, n_predicted: int, population: bool) -> str:
 
 # -- reading back ----------------------------------------------------------------------------------
 
+#: Keys the results folder adds to a record beside its fields; the folder checks them.
+_FILE_KEYS = {"case_key": Any, "case_config": Any}
+
 
 def parse_record(data: Any) -> HumanResult:
     """A :class:`HumanResult` from decoded JSON; ``ValueError`` naming the first problem."""
-    values = _typed(HumanResult, data, "record", extra={"case_key", "case_config"})
+    values = json_fields(HumanResult, data, extra=_FILE_KEYS, hints={"scores": dict[str, Any]})
     if values.get("track") != TRACK:
         raise ValueError(f"track must be {TRACK!r}, got {shown(values.get('track'))}")
     scores = values["scores"]
-    values["scores"] = {code: SpeedScore(**_typed(SpeedScore, s, f"scores[{code}]")) for code, s in scores.items()}
+    values["scores"] = {code: SpeedScore(**json_fields(SpeedScore, s, f"scores[{code}]")) for code, s in scores.items()}
     record = HumanResult(**values)
     check_record(record)
     return record
-
-
-def _typed(cls: type, data: Any, what: str, extra: set[str] = frozenset()) -> dict[str, Any]:
-    if not isinstance(data, dict):
-        raise ValueError(f"{what} must be a JSON object, got {type(data).__name__}")
-    hints = typing.get_type_hints(cls)
-    required = [f.name for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING]
-    missing = [k for k in required if k not in data]
-    if missing:
-        raise ValueError(f"{what} misses field(s) {', '.join(missing)}")
-    unknown = [k for k in data if k not in hints and k not in extra]
-    if unknown:
-        raise ValueError(f"{what} has unknown field(s) {', '.join(shown(k) for k in unknown[:5])}")
-    out = {}
-    for key, value in data.items():
-        if key not in hints:
-            continue
-        hint = hints[key]
-        if key == "scores":
-            hint = dict[str, Any]
-        try:
-            out[key] = coerce(value, hint, nonfinite=True, max_int=None)
-        except TypeMismatch as exc:
-            raise ValueError(f"{what}.{key} must be {exc}, got {shown(value)}") from None
-    return out
 
 
 def check_record(record: HumanResult) -> None:

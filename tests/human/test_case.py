@@ -176,7 +176,10 @@ def test_a_record_read_back_is_checked_for_consistency() -> None:
     edits = [
         (lambda d: d["scores"]["T04"].update(skill=99.0), "skill is 99.0"),
         (lambda d: d["scores"]["T04"].update(rmse_deg=-5.0), "non-negative"),
-        (lambda d: d["scores"]["T04"].update(rmse_deg="x"), "must be a number"),
+        (lambda d: d["scores"]["T04"].update(rmse_deg="x"), r"scores\[T04\]\.rmse_deg must be a number"),
+        (lambda d: d["scores"]["T04"].pop("rmse_deg"), r"scores\[T04\]: missing field\(s\) rmse_deg"),
+        (lambda d: d.pop("weights"), r"missing field\(s\) weights"),
+        (lambda d: d.update(surprise=1), r"unknown field\(s\) surprise"),
         (lambda d: d.update(weights=[5, 5, 5]), "unit norm"),
         (lambda d: d["scores"]["T04"].update(floor_rmse_deg=1.0), "lowest RMSE"),
         (lambda d: d["scores"]["T04"].update(beats_copy=True), "beats_copy"),
