@@ -216,13 +216,15 @@ def json_fields(
     where: str = "",
     extra: Mapping[str, Any] | None = None,
     hints: Mapping[str, Any] | None = None,
+    max_int: int | None = None,
 ) -> dict[str, Any]:
     """The fields of the dataclass ``cls`` in the decoded JSON object ``data``, each checked
     against its annotation (or its entry in ``hints``) by :func:`coerce`, NaN stored as null.
 
     ``extra`` maps the keys a file may hold beside the fields to their annotations: checked,
-    then left out. ``ValueError`` naming the first problem (a field missing, a key unknown,
-    a value of the wrong type), prefixed by ``where`` (the part of the file it is in).
+    then left out. Integers must lie within ``±max_int`` (None: any size). ``ValueError``
+    naming the first problem (a field missing, a key unknown, a value of the wrong type),
+    prefixed by ``where`` (the part of the file it is in).
     """
     at = f"{where}: " if where else ""
     if not isinstance(data, dict):
@@ -244,7 +246,7 @@ def json_fields(
     for key, value in data.items():
         hint = annotations[key] if key in annotations else extra[key]
         try:
-            checked = coerce(value, hint, nonfinite=True, max_int=None)
+            checked = coerce(value, hint, nonfinite=True, max_int=max_int)
         except TypeMismatch as exc:
             raise ValueError(f"{where + '.' if where else ''}{key} must be {exc}, got {json_kind(value)}") from None
         if key in annotations:

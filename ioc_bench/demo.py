@@ -12,7 +12,6 @@ import io
 import json
 import os
 import sys
-import typing
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.checks import TypeMismatch, coerce, load_json, shown
+from ioc_bench.checks import MAX_INT, json_fields, load_json, shown
 from ioc_bench.features import COST_FEATURES, model_features
 from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import get_model
@@ -267,15 +266,7 @@ def _numeric(arr: np.ndarray, name: str, ndim: int | None = None) -> np.ndarray:
 
 def _typed(cls: type, value: Any, what: str) -> Any:
     """A dataclass from a JSON object, every field checked against its annotation."""
-    data = _object(value, what)
-    hints = typing.get_type_hints(cls)
-    unknown = set(data) - set(hints)
-    if unknown:
-        raise ValueError(f"{what} has unknown field(s) {sorted(unknown)}")
-    try:
-        return cls(**{k: coerce(v, hints[k], nonfinite=True) for k, v in data.items()})
-    except TypeMismatch as exc:
-        raise ValueError(f"{what} has a field that is not {exc}") from None
+    return cls(**json_fields(cls, _object(value, what), what, max_int=MAX_INT))
 
 
 def _multistart(ms: Any) -> MultiStartSummary | None:
