@@ -27,9 +27,7 @@ import math
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
-import numpy as np
-
-from ioc_bench.model.gait_model import GaitModel, GaitRoles, GuessShape, stance_swing_angles
+from ioc_bench.model.gait_model import GaitModel, GaitRoles, kneed_guess_angles
 from ioc_bench.model.linkage import Joint, Linkage, Pin, Segment
 from ioc_bench.model.params import SegmentParams
 from ioc_bench.model.winter import HAT_LENGTH, WINTER
@@ -322,19 +320,6 @@ def footed_roles(feet: str) -> GaitRoles:
     )
 
 
-def _guess_angles(linkage: Linkage, params: FootedParams, shape: GuessShape, s: np.ndarray) -> np.ndarray:
-    """The walker's rough step (straight stance leg rotating, swing knee bending); feet level."""
-    stance, swing, bump = stance_swing_angles(shape.step, params.leg_length, s)
-    names = [seg.name for seg in linkage.segments]
-    theta = np.zeros((len(s), len(names)))
-    theta[:, names.index("torso")] = shape.lean
-    theta[:, names.index("thigh_stance")] = stance
-    theta[:, names.index("shank_stance")] = stance + shape.knee_stance * bump
-    theta[:, names.index("thigh_swing")] = swing - 0.5 * shape.knee_swing * bump
-    theta[:, names.index("shank_swing")] = swing + 0.5 * shape.knee_swing * bump
-    return theta
-
-
 def footed_model(name: str, params: FootedParams) -> GaitModel:
     """A :class:`GaitModel` of the walker with feet of ``params``' kinds (cost groups: hip,
     knee and, with ankles, ankle)."""
@@ -348,7 +333,7 @@ def footed_model(name: str, params: FootedParams) -> GaitModel:
         params_from_dict=FootedParams.from_dict,
         roles=footed_roles(params.feet),
         actuator_groups=groups,
-        guess_angles=_guess_angles,
+        guess_angles=kneed_guess_angles,
     )
 
 

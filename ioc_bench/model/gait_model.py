@@ -116,3 +116,17 @@ def stance_swing_angles(step: float, leg_length: float, s: np.ndarray) -> tuple[
     """Leg angles of an inverted-pendulum stance and a mirror-wise swing, and a mid-swing bump."""
     beta = np.arcsin(np.clip(step / (2 * leg_length), -1, 1))
     return -beta + 2 * beta * s, beta - 2 * beta * s, np.sin(np.pi * s)
+
+
+def kneed_guess_angles(linkage: Linkage, params: Any, shape: GuessShape, s: np.ndarray) -> np.ndarray:
+    """The rough step of a walker with a torso, thighs and shanks (named as the walker's):
+    straight stance leg rotating, swing leg mirror-wise with a mid-swing knee bend, torso
+    leaning, every other segment (feet) level. ``params`` needs only ``leg_length``."""
+    stance, swing, bump = stance_swing_angles(shape.step, params.leg_length, s)
+    theta = np.zeros((len(s), len(linkage.segments)))
+    theta[:, linkage.index("torso")] = shape.lean
+    theta[:, linkage.index("thigh_stance")] = stance
+    theta[:, linkage.index("shank_stance")] = stance + shape.knee_stance * bump
+    theta[:, linkage.index("thigh_swing")] = swing - 0.5 * shape.knee_swing * bump
+    theta[:, linkage.index("shank_swing")] = swing + 0.5 * shape.knee_swing * bump
+    return theta

@@ -7,9 +7,7 @@ at its foot, the swing leg lands at the end of the step, and at heel strike the 
 
 from __future__ import annotations
 
-import numpy as np
-
-from ioc_bench.model.gait_model import GaitModel, GaitRoles, GuessShape, stance_swing_angles
+from ioc_bench.model.gait_model import GaitModel, GaitRoles, kneed_guess_angles
 from ioc_bench.model.linkage import Joint, Linkage, Pin, Segment
 from ioc_bench.model.params import SegmentParams, WalkerParams
 
@@ -73,19 +71,6 @@ def walker_linkage(params: WalkerParams | None = None) -> Linkage:
     return linkage
 
 
-def _guess_angles(linkage: Linkage, params: WalkerParams, shape: GuessShape, s: np.ndarray) -> np.ndarray:
-    """Straight stance leg rotating, swing leg mirror-wise with a mid-swing knee bend, torso leaning."""
-    stance, swing, bump = stance_swing_angles(shape.step, params.leg_length, s)
-    names = [seg.name for seg in linkage.segments]
-    theta = np.zeros((len(s), len(names)))
-    theta[:, names.index("torso")] = shape.lean
-    theta[:, names.index("thigh_stance")] = stance
-    theta[:, names.index("shank_stance")] = stance + shape.knee_stance * bump
-    theta[:, names.index("thigh_swing")] = swing - 0.5 * shape.knee_swing * bump
-    theta[:, names.index("shank_swing")] = swing + 0.5 * shape.knee_swing * bump
-    return theta
-
-
 #: The 5-segment walker of ``docs/spec.md``, "The walker" (the benchmark's model).
 WALKER = GaitModel(
     name="walker",
@@ -94,5 +79,5 @@ WALKER = GaitModel(
     params_from_dict=WalkerParams.from_dict,
     roles=WALKER_ROLES,
     actuator_groups={"hip": ("hip_stance", "hip_swing"), "knee": ("knee_stance", "knee_swing")},
-    guess_angles=_guess_angles,
+    guess_angles=kneed_guess_angles,
 )
