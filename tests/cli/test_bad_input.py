@@ -20,7 +20,9 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import stat
+import tempfile
 import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -390,13 +392,19 @@ SCRATCH_PATH_CHARS = 240
 PAD = "w"
 
 
-def _fixed_length(tmp: Path) -> Path:
-    """A new folder under ``tmp`` whose path has :data:`SCRATCH_PATH_CHARS` characters."""
-    room = SCRATCH_PATH_CHARS - len(str(tmp)) - 1
-    assert room >= 100, f"pytest's temporary folder {tmp} is too deep for this test's fixed-length scratch"
-    folder = tmp / (PAD * room)
+@pytest.fixture
+def scratch() -> Path:
+    """A new folder whose path has :data:`SCRATCH_PATH_CHARS` characters, made under ``/tmp``
+    when it is writable (else the system's temporary folder), never under pytest's, whose
+    depth is the user's ``--basetemp``; removed afterwards."""
+    base = "/tmp" if os.access("/tmp", os.W_OK) else tempfile.gettempdir()
+    root = Path(tempfile.mkdtemp(prefix="iocb-", dir=base))
+    room = SCRATCH_PATH_CHARS - len(str(root)) - 1
+    assert room >= 100, f"the temporary folder {root} is too deep for this test's fixed-length scratch"
+    folder = root / (PAD * room)
     folder.mkdir()
-    return folder
+    yield folder
+    shutil.rmtree(root, ignore_errors=True)
 
 
 class Workspace:
@@ -497,13 +505,13 @@ MAX_LINE = 400 + len("ioc-bench leaderboard: error: ")
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
-def test_bad_input_exits_2_with_one_line(case: Case, tmp_path, good_demo, make_result, capsys, no_work, monkeypatch):
-    space = Workspace(_fixed_length(tmp_path), good_demo, make_result)
+def test_bad_input_exits_2_with_one_line(case: Case, scratch, good_demo, make_result, capsys, no_work, monkeypatch):
+    space = Workspace(scratch, good_demo, make_result)
     argv = [space.resolve(a) for a in case.argv]
     hold = space.resolve(case.hold) if case.hold else None
     if case.cache:
         monkeypatch.setenv("IOC_BENCH_CACHE", space.resolve(case.cache))
-    cwd = tmp_path.parent / f"{tmp_path.name}-cwd"
+    cwd = scratch.parent / "cwd"
     cwd.mkdir()
     monkeypatch.chdir(cwd)
     before = space.snapshot()
@@ -672,10 +680,9 @@ API_CASES: list[tuple[str, str, Callable[[Path, Path], object], type[Exception],
 
 @pytest.mark.parametrize(("name", "source", "call", "error", "expect"), API_CASES, ids=[c[0] for c in API_CASES])
 def test_python_api_raises_one_documented_error(
-    name, source, call, error, expect, tmp_path, good_demo, no_work, make_result
+    name, source, call, error, expect, scratch, good_demo, no_work, make_result
 ):
     _SYNTHETIC[:] = [make_result]
-    scratch = _fixed_length(tmp_path)
     with pytest.raises(error) as exc:
         call(scratch, good_demo)
     message = str(exc.value)
