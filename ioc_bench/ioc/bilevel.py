@@ -35,6 +35,7 @@ built-in (L-BFGS-B on ``D``, uniform start) selectable for comparison.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -43,6 +44,7 @@ from scipy.optimize import least_squares, minimize
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord, WeightRegion
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, fit_kkt_trials, interval
 from ioc_bench.ioc.misfit import residual_test
+from ioc_bench.ioc.nearest_optimum import nearest_optimum
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
@@ -99,6 +101,12 @@ class BilevelConfig:
         initial_scale: ``|u|`` at the start (L-BFGS-B: its first step is a unit step in u).
         start: where forward solves start: ``"reference"`` (the feasible reference, every
             time) or ``"best"`` (the best optimum so far).
+        proximal: on an observation without torques, if > 0, each forward solve is also
+            made through a proximal step of this weight towards the reference, and the
+            optimum nearer the observation kept (:func:`~ioc_bench.ioc.nearest_optimum.
+            nearest_optimum`: a solve straight from a reference whose torques were inferred
+            can reach another optimum, one the data reject). Three solves instead of one;
+            0: straight from the start only.
         init: where the weights start: ``"best"`` (see :data:`MORE_STARTS`: the lower tracking
             error of uniform and inverse-KKT weights, and more starts when neither fits),
             ``"uniform"`` or ``"inverse-kkt"``.
@@ -118,6 +126,7 @@ class BilevelConfig:
     floor: float = 1e-6
     initial_scale: float = 10.0
     start: str = "reference"
+    proximal: float = 0.0
     init: str = "best"
     restarts: int = 1
     l1_path: tuple[float, ...] = (0.01, 0.1, 1.0)
@@ -132,6 +141,8 @@ class BilevelConfig:
             raise ValueError(f"init must be 'best', 'uniform' or 'inverse-kkt', got {self.init!r}")
         if self.max_iterations < 1 or self.max_solves < 1 or not positive:
             raise ValueError("max_iterations and max_solves must be >= 1; gtol, ftol, floor and initial_scale > 0")
+        if not (math.isfinite(self.proximal) and self.proximal >= 0):
+            raise ValueError(f"proximal must be a finite number >= 0, got {self.proximal!r}")
         if self.restarts < 0:
             raise ValueError("restarts must be >= 0")
         if any(not lam > 0 for lam in self.l1_path):
@@ -187,7 +198,7 @@ class _Fit:
             return self._cache[key]
         if len(self.history) >= self.cfg.max_solves:
             raise _Budget
-        sols = [t.problem.optimize(w, start=t.start) for t in self.trials]
+        sols = [self._optimum(t, w) for t in self.trials]
         parts = []
         for t, sol in zip(self.trials, sols):
             if sol.success:
@@ -203,6 +214,10 @@ class _Fit:
                 self.trials = [replace(t, start=s) for t, s in zip(self.trials, sols)]
         self._cache[key] = (r, sols)
         return r, sols
+
+    def _optimum(self, trial: _Trial, w: np.ndarray) -> OracleSolution:
+        """The forward optimum of ``w`` for one trial, from its start."""
+        return nearest_optimum(trial.problem, w, trial.start, self.cfg.proximal)
 
     def jacobian(self, w: np.ndarray) -> np.ndarray:
         """(m, F) derivative of the residuals by the weights (zero where a solve failed)."""

@@ -42,6 +42,7 @@ benchmark's one-trial shape.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -51,6 +52,7 @@ import numpy as np
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, fit_kkt_trials
 from ioc_bench.ioc.misfit import gauss_newton_region, residual_test, tracking_residuals
+from ioc_bench.ioc.nearest_optimum import nearest_optimum
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
@@ -87,6 +89,11 @@ class SingleLevelConfig:
             the start or at the feasible reference gets a multiplier.
         init: where the weights start: ``"best"`` (the lower tracking error of the uniform and
             inverse-KKT weights' optima), ``"uniform"`` or ``"inverse-kkt"``.
+        proximal: on an observation without torques, if > 0, the start's forward solves
+            are also made through a proximal step of this weight towards the reference, and
+            the optimum nearer the observation kept (:func:`~ioc_bench.ioc.nearest_optimum.
+            nearest_optimum`), so the start is the KKT point nearer the observed step. 0:
+            straight from the reference only.
         max_iterations: IPOPT iterations at most per solve.
     """
 
@@ -94,6 +101,7 @@ class SingleLevelConfig:
     relaxation: tuple[float, ...] = (1e-3, 1e-6)
     near_tol: float = 1e-3
     init: str = "best"
+    proximal: float = 0.0
     max_iterations: int = 300
 
     def __post_init__(self) -> None:
@@ -105,6 +113,8 @@ class SingleLevelConfig:
             raise ValueError("relaxation must be one or more numbers > 0")
         if not self.near_tol > 0 or self.max_iterations < 1:
             raise ValueError("near_tol must be > 0 and max_iterations >= 1")
+        if not (math.isfinite(self.proximal) and self.proximal >= 0):
+            raise ValueError(f"proximal must be a finite number >= 0, got {self.proximal!r}")
 
 
 class _NLP:
@@ -226,7 +236,7 @@ def _start(problem, cfg: SingleLevelConfig, history: list) -> tuple[np.ndarray, 
             candidates.append(w / np.linalg.norm(w))
     best, best_error = None, np.inf
     for w in candidates:
-        sols = [t.optimize(w, start=t.reference()) for t in problem.trials]
+        sols = [nearest_optimum(t, w, t.reference(), cfg.proximal) for t in problem.trials]
         history.append(IterationRecord.of(problem, w, sols[0] if len(sols) == 1 else sols, stage="start"))
         if all(s.success for s in sols):
             error = float(np.mean([t.tracking_error(s.trajectory) for t, s in zip(problem.trials, sols)]))
