@@ -151,6 +151,15 @@ def check_seed(seed: Any, what: str = "seed") -> int:
     return int(seed)
 
 
+def check_non_negative(value: Any, what: str) -> float:
+    """``value`` if it is a finite real number >= 0 (not a bool), else ``ValueError``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{what} must be a finite number >= 0, got {shown(value)}")
+    if not (math.isfinite(value) and value >= 0):
+        raise ValueError(f"{what} must be a finite number >= 0, got {shown(value)}")
+    return float(value)
+
+
 def check_count(value: Any, what: str, optional: bool = False, maximum: int | None = None) -> int | None:
     """``value`` if it is an integer >= 1 (and <= ``maximum``; or None when ``optional``), else ``ValueError``."""
     if optional and value is None:

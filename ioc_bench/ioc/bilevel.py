@@ -35,12 +35,12 @@ built-in (L-BFGS-B on ``D``, uniform start) selectable for comparison.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
+from ioc_bench.checks import check_non_negative
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord, WeightRegion
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, fit_kkt_trials, interval
 from ioc_bench.ioc.misfit import residual_test
@@ -141,8 +141,7 @@ class BilevelConfig:
             raise ValueError(f"init must be 'best', 'uniform' or 'inverse-kkt', got {self.init!r}")
         if self.max_iterations < 1 or self.max_solves < 1 or not positive:
             raise ValueError("max_iterations and max_solves must be >= 1; gtol, ftol, floor and initial_scale > 0")
-        if not (math.isfinite(self.proximal) and self.proximal >= 0):
-            raise ValueError(f"proximal must be a finite number >= 0, got {self.proximal!r}")
+        check_non_negative(self.proximal, "proximal")
         if self.restarts < 0:
             raise ValueError("restarts must be >= 0")
         if any(not lam > 0 for lam in self.l1_path):

@@ -31,6 +31,7 @@ from typing import Protocol
 
 import numpy as np
 
+from ioc_bench.checks import check_non_negative
 from ioc_bench.features import check_names, evaluate, model_features
 from ioc_bench.ioc.forward_view import ForwardView
 from ioc_bench.ioc.oracle import OracleSolution, OracleStats
@@ -192,8 +193,7 @@ class IOCProblem:
         """
         if not isinstance(starts, numbers.Integral) or isinstance(starts, bool) or not 1 <= starts <= MAX_STARTS:
             raise ValueError(f"starts must be an integer in 1..{MAX_STARTS}, got {starts!r}")
-        if not (isinstance(proximal, numbers.Real) and np.isfinite(proximal) and proximal >= 0):
-            raise ValueError(f"proximal must be a finite number >= 0, got {proximal!r}")
+        check_non_negative(proximal, "proximal")
         unit_w = normalize(weights)
         if unit_w.size != self.n_features:
             raise ValueError(f"expected {self.n_features} weights ({', '.join(self.features)}), got {unit_w.size}")

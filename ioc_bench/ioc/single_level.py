@@ -42,13 +42,13 @@ benchmark's one-trial shape.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from functools import lru_cache
 
 import casadi as ca
 import numpy as np
 
+from ioc_bench.checks import check_non_negative
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, fit_kkt_trials
 from ioc_bench.ioc.misfit import gauss_newton_region, residual_test, tracking_residuals
@@ -113,8 +113,7 @@ class SingleLevelConfig:
             raise ValueError("relaxation must be one or more numbers > 0")
         if not self.near_tol > 0 or self.max_iterations < 1:
             raise ValueError("near_tol must be > 0 and max_iterations >= 1")
-        if not (math.isfinite(self.proximal) and self.proximal >= 0):
-            raise ValueError(f"proximal must be a finite number >= 0, got {self.proximal!r}")
+        check_non_negative(self.proximal, "proximal")
 
 
 class _NLP:
