@@ -25,6 +25,7 @@ from ioc_bench import IOCResult, IterationRecord, ModelFit, WeightRegion, run_ca
 from ioc_bench.bench.case import CaseSpec
 from ioc_bench.bench.results import load_results
 from ioc_bench.bench.runner import run_cases
+from ioc_bench.ioc import registry
 from ioc_bench.ioc.contract import contract_breach
 
 PACKAGE = Path(__file__).parent / "plugin_pkg"
@@ -58,10 +59,19 @@ def site(tmp_path_factory) -> Path:
     project = tomllib.loads(PACKAGE.joinpath("pyproject.toml").read_text())["project"]
     lines = [f"{name} = {target}" for name, target in project["entry-points"]["ioc_bench.algorithms"].items()]
     (info / "entry_points.txt").write_text("[ioc_bench.algorithms]\n" + "\n".join(lines) + "\n")
+    registered, checked = dict(registry._REGISTRY), set(registry._CLASH_CHECKED)
     sys.path.insert(0, str(site))
     importlib.invalidate_caches()
     yield site
     sys.path.remove(str(site))
+    importlib.invalidate_caches()
+    # the plugins it registered leave with it: later tests see the built-ins only
+    registry._REGISTRY.clear()
+    registry._REGISTRY.update(registered)
+    registry._CLASH_CHECKED.clear()
+    registry._CLASH_CHECKED.update(checked)
+    for module in [m for m in sys.modules if m.split(".")[0] == "iocbench_test_plugins"]:
+        del sys.modules[module]
 
 
 @pytest.fixture(scope="module")
