@@ -213,14 +213,23 @@ class IOCProblem:
         best = min(feasible, key=lambda r: r.report.objective) if feasible else results[0]
         return self._wrap(best, unit_w)
 
-    def project(self, target: Observation) -> OracleSolution:
+    def project(self, target: Observation, start: OracleSolution | None = None) -> OracleSolution:
         """The feasible step closest to ``target`` in its measured positions, velocities and
-        torques (each signal's squared error divided by its span in the observed step)."""
+        torques (each signal's squared error divided by its span in the observed step).
+
+        Args:
+            target: the step to project, of the observed step's knots.
+            start: a projection to start from, warm (its primal-dual point), e.g.
+                :meth:`reference` for a small perturbation of the observation; default:
+                ``target``'s own values as a cold guess.
+        """
         if not isinstance(target, Observation) or target.n_knots != self.observed.n_knots:
             raise ValueError(f"target must be an Observation of {self.observed.n_knots} knots, like problem.observed")
+        if start is not None and (not isinstance(start, OracleSolution) or start.point is None):
+            raise ValueError("start must be an OracleSolution with its primal-dual point (e.g. problem.reference())")
         tracking = tracking_terms(target, PROJECTION_SCALE, self._spans)
         zeros = np.zeros(len(self._forward.features))
-        start = StartPoint(self._forward.guess_vector(target, self.params))
+        start = start.point if start is not None else StartPoint(self._forward.guess_vector(target, self.params))
         with self.stats.timed("project"):
             result = self._forward.solve(SolveRequest(start, self.params, self.task, zeros, tracking))
         return self._wrap(result, np.zeros(self.n_features))

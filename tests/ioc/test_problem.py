@@ -1,0 +1,37 @@
+"""IOCProblem's oracles: a projection started warm at the reference is the cold one."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ioc_bench.bench.observe import observe
+from ioc_bench.features import COST_FEATURES
+from ioc_bench.ioc.problem import IOCProblem
+
+
+@pytest.fixture(scope="module")
+def problem(nominal_demo) -> IOCProblem:
+    observed = observe(nominal_demo.trajectory, 0.02, np.random.default_rng(3))
+    return IOCProblem(observed, COST_FEATURES, nominal_demo.params, nominal_demo.task, seed=4)
+
+
+def test_a_warm_projection_of_a_perturbation_is_the_cold_one(problem):
+    reference = problem.reference()
+    assert reference.success
+    rng, iterations = problem.rng(stream=1), np.zeros(2)
+    for _ in range(2):
+        target = problem.perturb(rng, 0.05)
+        cold, warm = problem.project(target), problem.project(target, start=reference)
+        assert cold.success and warm.success
+        np.testing.assert_allclose(warm.features, cold.features, rtol=1e-6)
+        np.testing.assert_allclose(warm.trajectory.q, cold.trajectory.q, atol=1e-6)
+        assert not np.allclose(warm.features, reference.features, rtol=1e-4)  # a different step
+        iterations += (cold.report.iterations, warm.report.iterations)
+    assert iterations[1] < iterations[0]  # the start was used: the same point, reached sooner
+
+
+def test_a_projection_start_that_is_not_a_solution_is_refused(problem, nominal_demo):
+    for start in ("warm", 3, nominal_demo.trajectory):
+        with pytest.raises(ValueError, match="start must be an OracleSolution"):
+            problem.project(problem.observed, start=start)
