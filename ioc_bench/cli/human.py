@@ -4,7 +4,9 @@ predictions against the nominal weights, the floor and copying the person (``doc
 
 ``--subject WBDS01 --train T05 --predict T03,T04,T06 --algorithm bilevel`` (``--train
 T04,T05`` gives the algorithm both speeds' steps at once, for one cost; ``--population
-WBDS02,WBDS03`` fits the cost on those subjects' steps instead and predicts this subject's).
+WBDS02,WBDS03`` fits the cost on those subjects' steps instead and predicts this subject's;
+``--model rolling-feet`` maps the person's steps to the walker with rolling feet and a free
+knee on the subject's body instead of the paper's walker).
 With ``--out DIR`` the case runs as any suite's case does (``ioc-bench run``): its result
 ``ALGORITHM/CASE.json`` is written atomically under a lock, resumed if already there, and its
 figure written beside it; without it nothing is written. A whole suite: ``ioc-bench run
@@ -45,6 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--starts", type=positive_int, default=None, help="starts per forward solve (default 3)")
     floor_help = "extra weight directions solved at every speed for the floor, ';'-separated, or 'none' (default 1,4,0)"
     p.add_argument("--floor", help=floor_help)
+    model_help = "gait model the person's steps are mapped to (default walker; rolling-feet: rolling feet, free knee)"
+    p.add_argument("--model", default="walker", help=model_help)  # checked by the case: one line, exit 2
     p.add_argument("--suite", help=argparse.SUPPRESS)
     p.add_argument("--data", type=path_arg, help="a folder of the WBDS ASCII layout (default: the shipped subset)")
     p.add_argument("--out", type=path_arg, help="results folder for the case and its figure (default: write nothing)")
@@ -86,7 +90,7 @@ def _spec(args: argparse.Namespace):
     with usage_errors():
         spec = HumanCaseSpec(
             args.subject, train[0], tuple(predict), args.algorithm, config=args.config, also_train=tuple(train[1:]),
-            population=population, data=data, **options,
+            population=population, model=args.model, data=data, **options,
         )  # fmt: skip
         make_algorithm(spec.algorithm, **spec.config)  # the name and every config field
         spec.steps()  # every file the case reads, checked before any solve
@@ -99,7 +103,8 @@ def _print(record) -> None:
     reason = f" ({record.reason})" if record.reason else ""
     train = "+".join([record.train, *record.also_train])
     source = f" fitted on {'+'.join(record.population)}" if record.population else ""
-    print(f"{record.algorithm} on {record.subject} {train}{source}: {record.status}{reason}")
+    model = "" if record.model == "walker" else f" ({record.model})"
+    print(f"{record.algorithm} on {record.subject} {train}{source}{model}: {record.status}{reason}")
     print(f"  weights ({', '.join(record.features)}) = [{w}]  in {record.wall_time:.1f} s, {record.n_solves} solves")
     for code, s in sorted(record.scores.items(), key=lambda item: (item[1].role != "fit", item[0])):
         copy = f"  copy {_f(s.copy_rmse_deg)} ({s.copy_from})  adaptation {_f(s.adaptation_deg)} (copy's "

@@ -3,7 +3,8 @@
 ``wbds`` reads and checks the data set's ASCII layout, ``anthropometry`` builds the
 subject's walker, ``step`` maps a trial to one symmetric step in the walker's units, and
 ``observe`` turns it into an :class:`~ioc_bench.trajectory.Observation` that holds only what
-was measured. The track itself: ``case`` (a case of the benchmark's case protocol: a cost
+was measured, on the walker or another model the step maps to (``models``: the walker with
+rolling feet, on the subject's body). The track itself: ``case`` (a case of the benchmark's case protocol: a cost
 inferred at some speeds, its steps predicted at the others), ``scoring`` (the RMSEs, the
 copy baseline, the adaptation and ground-force errors), ``record`` (what a result file
 holds, checked when read), ``summary`` (a run per algorithm and design), ``suites`` (the

@@ -14,6 +14,12 @@ gets every training step as one multi-trial problem), leave one speed out (three
 speeds, one predicted), and a population design (``population``: the cost is fitted on
 those other subjects' steps at the training speeds, and every speed of this subject is
 predicted).
+
+Models: a case maps the person's steps to one gait model (``model``: the paper's walker by
+default, or another of :data:`HUMAN_MODELS`, on the subject's own body,
+:mod:`ioc_bench.human.models`), and every step of it uses that model: the observation, the
+IOC problem, the forward solves of the estimate and of the reference steps, their cache
+keys and the figure.
 """
 
 from __future__ import annotations
@@ -35,6 +41,8 @@ from ioc_bench.cache import cache_dir
 from ioc_bench.checks import check_count, check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_json
+from ioc_bench.human.models import HUMAN_MODELS as HUMAN_MODELS  # the case's models, named here too
+from ioc_bench.human.models import check_human_model, subject_params
 from ioc_bench.human.observe import human_observation
 from ioc_bench.human.record import TRACK, HumanResult, SpeedScore, design_of
 from ioc_bench.human.scoring import (
@@ -54,6 +62,7 @@ from ioc_bench.ioc.fit import Fit, fit
 from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
 from ioc_bench.ioc.registry import canonical_config, check_algorithm_name, check_config, get_algorithm
 from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.paths import read_bytes
 from ioc_bench.weights import parse_weights
 
@@ -64,8 +73,6 @@ FLOOR_WEIGHTS: tuple[str, ...] = ("1,4,0",)
 DEFAULT_STARTS = 3
 #: Most starts a case may ask for.
 MAX_STARTS = 50
-#: The models a human step can be mapped to (the subject's walker is built for them).
-HUMAN_MODELS: tuple[str, ...] = ("walker",)
 #: Revision of the reference steps' cache entries (bump when their solve changes).
 REFERENCE_REVISION = 1
 
@@ -126,8 +133,7 @@ class HumanCaseSpec:
         both = [code for code in self.training if code in self.predict]
         if both and not self.population:
             raise ValueError(f"the training speed {both[0]} is also a predicted speed")
-        if self.model not in HUMAN_MODELS:
-            raise ValueError(f"human steps map to the models {', '.join(HUMAN_MODELS)}, not {self.model!r}")
+        check_human_model(self.model)
         check_algorithm_name(self.algorithm)
         object.__setattr__(self, "seed", check_seed(self.seed))
         object.__setattr__(self, "starts", check_count(self.starts, "starts", maximum=MAX_STARTS))
@@ -146,7 +152,12 @@ class HumanCaseSpec:
 
     @property
     def features(self) -> tuple[str, ...]:
-        return tuple(cost_features(get_model(self.model)))
+        return tuple(cost_features(self.gait_model))
+
+    @property
+    def gait_model(self) -> GaitModel:
+        """The catalogue's model of :attr:`model`."""
+        return get_model(self.model)
 
     @property
     def training(self) -> tuple[str, ...]:
@@ -192,7 +203,11 @@ class HumanCaseSpec:
         scored speed and training speed), prepared once by the runner for every case that
         shares them."""
         steps = self.steps()
-        return [ReferenceStep(label, steps[code], self.starts, self.seed) for code in steps for label in self.labels]
+        return [
+            ReferenceStep(label, steps[code], self.starts, self.seed, self.model)
+            for code in steps
+            for label in self.labels
+        ]
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -220,17 +235,25 @@ class HumanCaseSpec:
     def _data(self) -> WbdsData:
         return WbdsData(self.data)
 
+    def _problem(self, step: HumanStep, model: GaitModel) -> IOCProblem:
+        """The IOC problem of one training step on ``model`` (the subject's body on it)."""
+        observed = human_observation(step, model=model)
+        params = subject_params(step.params, model)
+        return IOCProblem(observed, self.features, params, step.task, seed=self.seed, model=model)
+
     def run(self, inputs: Mapping[Any, Any]) -> HumanResult:
         """Run and score the case (in a worker): ``inputs`` maps :meth:`needs` to their steps."""
-        train = self.training_steps()
-        trials = [IOCProblem(human_observation(s), self.features, s.params, s.task, seed=self.seed) for s in train]
+        model = self.gait_model
+        trials = [self._problem(s, model) for s in self.training_steps()]
         outcome = fit(self.algorithm, self.config, trials[0] if len(trials) == 1 else MultiTrialProblem(trials))
         if outcome.failed:
             return self._record(outcome, {}, 0.0)
         t0 = time.perf_counter()
         weights = _unit(outcome.result.weights)
         steps = self.steps()
-        estimate = {code: solve_step(weights, steps[code], self.starts, self.seed, "estimate") for code in self.scored}
+        estimate = {
+            code: solve_step(weights, steps[code], self.starts, self.seed, "estimate", model) for code in self.scored
+        }
         refs = {code: {} for code in steps}
         for request in self.needs():
             refs[request.step.speed_code][request.label] = inputs[request]
@@ -330,26 +353,32 @@ def score_speed(
 @dataclass(frozen=True, eq=False)
 class ReferenceStep:
     """A reference step to prepare: named weights (``nominal`` or a direction) solved at one
-    human step's task. Its result depends on the subject's walker and the task, the weights,
-    the starts and the seed only, so it is solved once and kept in the cache
-    (``<cache>/human-references/<key>.json``, checked against its key when read back)."""
+    human step's task on the case's model. Its result depends on the model and the subject's
+    parameters on it, the task, the weights, the starts and the seed only, so it is solved
+    once and kept in the cache (``<cache>/human-references/<key>.json``, checked against its
+    key when read back). The key holds the model's name for every model but the walker
+    (the default, keyed by its parameters alone), so no two models share an entry."""
 
     label: str
     step: HumanStep
     starts: int
     seed: int
+    model: str = "walker"
 
     @cached_property
     def key(self) -> str:
+        model = get_model(self.model)
         payload = {
             "label": self.label,
-            "params": self.step.params.to_dict(),
+            "params": subject_params(self.step.params, model).to_dict(),
             "task": self.step.task.to_dict(),
             "knots": self.step.n_knots,
             "starts": self.starts,
             "seed": self.seed,
             "revision": REFERENCE_REVISION,
         }
+        if self.model != "walker":
+            payload["model"] = self.model
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
 
     def __eq__(self, other: object) -> bool:
@@ -364,7 +393,8 @@ class ReferenceStep:
         stored = _read_reference(path, self.key)
         if stored is not None:
             return stored
-        solved = solve_step(self.label, self.step, self.starts, self.seed, self.label)  # a set name or numbers
+        model = get_model(self.model)
+        solved = solve_step(self.label, self.step, self.starts, self.seed, self.label, model)  # a set name or numbers
         with contextlib.suppress(OSError, ValueError):  # a reference that cannot be kept is only solved again
             atomic_write_json(path, {"key": self.key, "step": solved.to_dict()})
         return solved

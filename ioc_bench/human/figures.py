@@ -15,12 +15,12 @@ from ioc_bench.viz.common import plt, save_figure
 _STYLES = ("--", ":", "-.")
 
 
-def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
+def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike, heading: str = "") -> Path:
     """One row per panel, one column per leg segment: the person's angles (solid black) and
     each walker step's (dashed), in degrees over the step (0 % and 100 % at heel strikes).
 
     Each panel is a mapping with ``title``, ``human`` ((T, 4) rad, :data:`LEG_SEGMENTS` order)
-    and ``walkers`` (label -> (T, 4) rad).
+    and ``walkers`` (label -> (T, 4) rad). ``heading`` opens the figure's title.
     """
     if not panels:
         raise ValueError("no panels to plot")
@@ -40,13 +40,14 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike) -> Path:
         row[-1].legend(fontsize=7, loc="best")
     for ax in axes[-1]:
         ax.set_xlabel("% of the step")
-    fig.suptitle("Leg segment angles from vertical (walker convention: + = proximal end ahead)", fontsize=10)
+    fig.suptitle(heading + "Leg segment angles from vertical (walker convention: + = proximal end ahead)", fontsize=10)
     return save_figure(fig, path)
 
 
 def plot_human_case(record: HumanResult, humans: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
     """The figure of one human-track case: per scored speed (fits first), the person's leg
-    segment angles, the estimated weights' step and the nominal weights' step.
+    segment angles, the estimated weights' step and the nominal weights' step (of the case's
+    model, named in the figure's title when it is not the walker).
 
     ``humans`` holds the person's (T, 4) angles (rad) by speed code. A failed case has no
     walker steps: its figure shows the person's steps alone.
@@ -63,7 +64,8 @@ def plot_human_case(record: HumanResult, humans: Mapping[str, np.ndarray], path:
         copy = f", copy {_deg(score.copy_rmse_deg)}" if score is not None and score.copy_from else ""
         skill = f"skill {_num(score.skill)}{copy}" if score is not None else ""
         panels.append({"title": f"{record.subject} {code} {role}\n{skill}", "human": humans[code], "walkers": walkers})
-    return plot_human_fits(panels, path)
+    model = "" if record.model == "walker" else f"Model {record.model}. "
+    return plot_human_fits(panels, path, model)
 
 
 def write_case_figures(out: str | os.PathLike, records: Sequence[HumanResult], data: str | None = None) -> list[Path]:

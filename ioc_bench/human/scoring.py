@@ -1,8 +1,10 @@
 """How the human track scores weights: the walker's steps they predict against the person's.
 
 Real walking has no true weights, so weights are scored by the steps they make the
-subject's walker take, against the person's steps, in degrees of RMSE over the four leg
-segments (:func:`~ioc_bench.human.observe.segment_rmse_deg`). At each speed of a case:
+subject's walker (or the subject's body on another model the step maps to,
+:mod:`ioc_bench.human.models`) take, against the person's steps, in degrees of RMSE over
+the four leg segments (:func:`~ioc_bench.human.observe.segment_rmse_deg`). At each speed
+of a case:
 
 - the **method**: the estimate's optimal step (``starts`` seeded starts, the cheapest
   feasible optimum kept: the walker has several families of optima for one cost);
@@ -30,8 +32,11 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.human.models import subject_params
 from ioc_bench.human.observe import leg_angles, segment_rmse_deg, walker_ground_force
 from ioc_bench.human.step import HumanStep
+from ioc_bench.model.gait_model import GaitModel
+from ioc_bench.model.walker import WALKER
 from ioc_bench.optimize import optimize_gait
 
 #: RMSE difference (deg) below which two fits count as equal.
@@ -86,19 +91,25 @@ class SolvedStep:
         )  # fmt: skip
 
 
-def solve_step(weights: Any, step: HumanStep, starts: int, seed: int, label: str = "") -> SolvedStep:
+def solve_step(
+    weights: Any, step: HumanStep, starts: int, seed: int, label: str = "", model: GaitModel = WALKER
+) -> SolvedStep:
     """The cheapest feasible optimum of ``starts`` seeded starts for ``weights`` (over the
-    walker's cost features) at ``step``'s task on the subject's walker."""
+    model's cost features) at ``step``'s task on the subject's parameters for ``model``
+    (:func:`~ioc_bench.human.models.subject_params`; the subject's walker by default)."""
     t0 = time.perf_counter()
-    demo = optimize_gait(weights, step.params, step.task, starts=starts, seed=seed, workers=1, verify=False)
+    params = subject_params(step.params, model)
+    demo = optimize_gait(
+        weights, params, step.task, starts=starts, seed=seed, workers=1, verify=False, model=model
+    )  # fmt: skip
     ok = bool(demo.solver.success)
     return SolvedStep(
         label=label,
         status=demo.solver.status,
         success=ok,
         objective=float(demo.solver.objective),
-        angles=leg_angles(demo.trajectory) if ok else None,
-        ground_force=walker_ground_force(demo.trajectory) if ok else None,
+        angles=leg_angles(demo.trajectory, model) if ok else None,
+        ground_force=walker_ground_force(demo.trajectory, model) if ok else None,
         wall_time=time.perf_counter() - t0,
     )
 

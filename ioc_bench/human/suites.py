@@ -1,7 +1,9 @@
 """The human track's suites as data: which subjects, speeds and designs make up a run.
 
 A :class:`HumanSuite` gives the cases of one algorithm, as the synthetic suites do, so
-``ioc-bench run --suite human --algorithm A`` runs it like any suite.
+``ioc-bench run --suite human --algorithm A`` runs it like any suite. A suite names the gait
+model its cases map the person's steps to (the walker unless it says otherwise); ``--model``
+runs any human suite on another model human steps map to.
 """
 
 from __future__ import annotations
@@ -86,6 +88,14 @@ HUMAN_SUITES: dict[str, HumanSuite] = {
             "the human track in a minute or two: WBDS01 trained at T05, predicting T04",
             ("WBDS01",),
             (Design(("T05",), ("T04",)),),
+        ),
+        HumanSuite(
+            "human-rolling-feet",
+            "the human track's smoke case on the walker with rolling feet and a free knee (the subject's body): "
+            "WBDS01 trained at T05, predicting T04",
+            ("WBDS01",),
+            (Design(("T05",), ("T04",)),),
+            model="rolling-feet",
         ),
         HumanSuite(
             "human-unshipped",

@@ -12,6 +12,10 @@ Over a run's records (:class:`~ioc_bench.human.record.HumanResult`):
   the time spent;
 - per (algorithm, subject): the spread of the weights inferred at each single training
   speed (the largest distance between two of them, and the range of each weight).
+
+Records of different gait models (``HumanResult.model``) are never pooled: each model has
+its own run floors, rows and weight spreads, and a row of a model other than the walker
+names it beside the algorithm.
 """
 
 from __future__ import annotations
@@ -41,13 +45,14 @@ def run_floors(records: Sequence[HumanResult]) -> dict[tuple[str, str], float]:
 
 
 def summarize(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
-    """One row per (algorithm, design), by algorithm, then one speed, two, ..., population."""
-    floors = run_floors(records)
-    groups: dict[tuple[str, str], list[HumanResult]] = {}
+    """One row per (algorithm, model, design), by algorithm, then model (the walker first),
+    then one speed, two, ..., population; skills against the run floors of the row's model."""
+    floors = {m: run_floors([r for r in records if r.model == m]) for m in {r.model for r in records}}
+    groups: dict[tuple[str, str, str], list[HumanResult]] = {}
     for record in records:
-        groups.setdefault((record.algorithm, record.design), []).append(record)
-    order = sorted(groups, key=lambda key: (key[0], _design_rank(groups[key][0])))
-    return [_row(algorithm, design, groups[algorithm, design], floors) for algorithm, design in order]
+        groups.setdefault((record.algorithm, record.model, record.design), []).append(record)
+    order = sorted(groups, key=lambda key: (key[0], key[1] != "walker", key[1], _design_rank(groups[key][0])))
+    return [_row(*key, groups[key], floors[key[1]]) for key in order]
 
 
 def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
@@ -55,7 +60,7 @@ def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
     return (bool(record.population), len(record.also_train), -len(record.predict))
 
 
-def _row(algorithm: str, design: str, cases: Sequence[HumanResult], floors) -> dict[str, Any]:
+def _row(algorithm: str, model: str, design: str, cases: Sequence[HumanResult], floors) -> dict[str, Any]:
     fits = [s.rmse_deg for r in cases for s in r.fits()]
     preds = [(r, s) for r in cases for s in r.predictions()]
     copied = [(r, s) for r, s in preds if s.copy_from]
@@ -67,6 +72,7 @@ def _row(algorithm: str, design: str, cases: Sequence[HumanResult], floors) -> d
     ]
     return {
         "algorithm": algorithm,
+        "model": model,
         "design": design,
         "cases": len(cases),
         "failed": sum(r.failed for r in cases),
@@ -89,20 +95,21 @@ def _row(algorithm: str, design: str, cases: Sequence[HumanResult], floors) -> d
 
 
 def weight_spread(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
-    """Per (algorithm, subject): the weights inferred at each single training speed, the
-    largest distance between two of them and each weight's range (needs two or more)."""
-    groups: dict[tuple[str, str], dict[str, tuple[float, ...]]] = {}
+    """Per (algorithm, model, subject): the weights inferred at each single training speed,
+    the largest distance between two of them and each weight's range (needs two or more)."""
+    groups: dict[tuple[str, str, str], dict[str, tuple[float, ...]]] = {}
     for r in records:
         if r.design == "one speed" and not r.failed:
-            groups.setdefault((r.algorithm, r.subject), {})[r.train] = r.weights
+            groups.setdefault((r.algorithm, r.model, r.subject), {})[r.train] = r.weights
     rows = []
-    for (algorithm, subject), by_speed in groups.items():
+    for (algorithm, model, subject), by_speed in groups.items():
         w = np.array(list(by_speed.values()))
         if len(w) < 2:
             continue
         distance = max(float(np.linalg.norm(a - b)) for a, b in combinations(w, 2))
         rows.append({
-            "algorithm": algorithm, "subject": subject, "speeds": sorted(by_speed), "largest_distance": distance,
+            "algorithm": algorithm, "model": model, "subject": subject, "speeds": sorted(by_speed),
+            "largest_distance": distance,
             "ranges": [[float(lo), float(hi)] for lo, hi in zip(w.min(axis=0), w.max(axis=0))],
         })  # fmt: skip
     return rows
@@ -120,7 +127,7 @@ def markdown(records: Sequence[HumanResult]) -> str:
     for row in rows:
         n, c = row["predictions"], row["with_copy"]
         cells = [
-            row["algorithm"], row["design"], str(row["cases"]), _failures(row),
+            _algorithm(row), row["design"], str(row["cases"]), _failures(row),
             _cell(row["fit_rmse_deg"]), _cell(row["prediction_rmse_deg"]), _cell(row["nominal_rmse_deg"]),
             _cell(row["copy_rmse_deg"]), f"{row['beat_nominal']}/{n}", f"{row['beat_copy']}/{c}" if c else "-",
             f"{_cell(row['adaptation_deg'])} ({_cell(row['copy_adaptation_deg'])})" if c else "-",
@@ -135,9 +142,14 @@ def markdown(records: Sequence[HumanResult]) -> str:
         for row in spread:
             ranges = ", ".join(f"{lo:.2f}-{hi:.2f}" for lo, hi in row["ranges"])
             speeds = ", ".join(row["speeds"])
-            line = f"| {row['algorithm']} | {row['subject']} | {speeds} | {row['largest_distance']:.3f} | {ranges} |"
+            line = f"| {_algorithm(row)} | {row['subject']} | {speeds} | {row['largest_distance']:.3f} | {ranges} |"
             lines.append(line)
     return "\n".join(lines) + "\n"
+
+
+def _algorithm(row: Mapping[str, Any]) -> str:
+    """The algorithm's cell: its name, and the model's when it is not the walker."""
+    return row["algorithm"] if row["model"] == "walker" else f"{row['algorithm']} ({row['model']})"
 
 
 def _failures(row: Mapping[str, Any]) -> str:

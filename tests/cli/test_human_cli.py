@@ -63,6 +63,9 @@ CASE = ("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T04")
         ((*CASE, "--out", "{tmp}/a_file"), "--out"),
         (("run", "--suite", "human-smoke", "--algorithm", "bilevel", "--data", "{broken}"), "WBDS01walkT04ang.txt"),
         (("run", "--suite", "smoke", "--data", "{broken}"), "a synthetic suite"),
+        ((*CASE, "--model", "nope"), "unknown gait model 'nope'; human steps map to the models walker, rolling-feet"),
+        ((*CASE, "--model", "compass"), "human steps map to the models walker, rolling-feet, not 'compass'"),
+        (("run", "--suite", "human-smoke", "--algorithm", "bilevel", "--model", "compass"), "not 'compass'"),
     ],
 )
 def test_bad_input_exits_2_with_one_line_before_any_solve(capsys, tmp_path, broken, monkeypatch, argv, message):
@@ -85,6 +88,7 @@ def test_run_lists_the_human_suites(capsys) -> None:
     assert main(["run", "--list", "--json"]) == 0
     suites = {s["name"]: s for s in json.loads(capsys.readouterr().out)["suites"]}
     assert suites["human"]["cases"] == 27 and suites["human-smoke"]["cases"] == 1
+    assert suites["human-rolling-feet"]["cases"] == 1 and suites["human-rolling-feet"]["model"] == "rolling-feet"
 
 
 def test_one_small_case_end_to_end_locked_and_resumed(capsys, tmp_path, monkeypatch) -> None:
@@ -122,3 +126,21 @@ def test_one_small_case_end_to_end_locked_and_resumed(capsys, tmp_path, monkeypa
         from ioc_bench.bench.results import read_result
 
         read_result(out / written[0], out)
+
+
+def test_one_small_rolling_feet_case_end_to_end(capsys, tmp_path) -> None:
+    """The same small case on the walker with rolling feet: its record and figure are filed
+    under the model's key, and the steps it scores are the model's (not the walker's)."""
+    out = tmp_path / "out"
+    argv = [*CASE, "--algorithm", "inverse-kkt", "--starts", "1", "--floor", "none", "--model", "rolling-feet"]
+    assert main([*argv, "--out", str(out), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["status"] != "failed" and report["model"] == "rolling-feet"
+    assert report["features"] == ["hip", "knee", "dtau"]
+    pred = report["scores"]["T04"]
+    assert pred["role"] == "prediction" and pred["copy_from"] == "T05" and pred["rmse_deg"] > 0
+    written = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
+    assert [Path(w).suffix for w in written] == [".json", ".png"]
+    assert all("__model-rolling-feet__cfg" in w for w in written)
+    walker = HumanCaseSpec("WBDS01", "T05", ("T04",), "inverse-kkt", starts=1, floor_weights=())
+    assert not (out / f"{walker.key}.json").exists()

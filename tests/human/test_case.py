@@ -91,6 +91,13 @@ def test_the_suites() -> None:
     assert [s.key for s in HUMAN_SUITES["human-smoke"].cases("inverse-kkt")] == [
         "inverse-kkt/WBDS01__train-T05__predict-T04__seed0"
     ]
+    assert [s.key for s in HUMAN_SUITES["human-rolling-feet"].cases("inverse-kkt")] == [
+        "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__model-rolling-feet"
+    ]
+    on_feet = HUMAN_SUITES["human-smoke"].cases("bilevel", model="rolling-feet")
+    assert [s.model for s in on_feet] == ["rolling-feet"]
+    with pytest.raises(ValueError, match="human steps map to"):
+        HUMAN_SUITES["human-smoke"].cases("bilevel", model="compass")
 
 
 def test_an_algorithm_for_one_trial_given_several_is_a_recorded_failure(one_trial_algorithm) -> None:
@@ -211,6 +218,20 @@ def test_the_run_summary_takes_its_floor_from_every_case_and_counts_losses() -> 
     assert rows["a"]["fit_rmse_deg"] == 7.0 and rows["a"]["time_s"] == 3.0 and rows["a"]["design"] == "one speed"
     table = markdown([a, b])
     assert "| a | one speed | 1 | 0 | 7.00 | 6.00 | 10.00 | 3.00 | 1/1 | 0/1 |" in table
+
+
+def test_the_summary_keeps_each_models_records_apart() -> None:
+    """The rolling-feet case's 4 deg at T04 is not the walker's floor there: each model's
+    skill is taken against its own run floor, in its own row."""
+    walker = _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "a"), {"T05": 7.0, "T04": 6.0})
+    feet = _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "a", model="rolling-feet"), {"T05": 5.0, "T04": 4.0})
+    rows = summarize([feet, walker])
+    assert [(r["algorithm"], r["model"]) for r in rows] == [("a", "walker"), ("a", "rolling-feet")]
+    assert [r["median_skill_run_floor"] for r in rows] == [pytest.approx(1.0), pytest.approx(1.0)]
+    assert [r["prediction_rmse_deg"] for r in rows] == [6.0, 4.0]
+    table = markdown([walker, feet])
+    assert "| a | one speed | 1 | 0 | 7.00 | 6.00 |" in table
+    assert "| a (rolling-feet) | one speed | 1 | 0 | 5.00 | 4.00 |" in table
 
 
 def test_the_summary_orders_rows_by_algorithm_then_design_whatever_order_the_files_came_in() -> None:
