@@ -127,5 +127,5 @@ def segment_rmse_deg(walker_step: Observation, human: HumanStep | Observation, m
 def walker_ground_force(trajectory: Trajectory, model: GaitModel = WALKER) -> np.ndarray:
     """(T, 2) the ground's force on ``model``'s stance foot (x forward, z up; a rolling
     foot's acts at the arc's lowest point), body weights (the mass and gravity are 1)."""
-    pins = [p.name for p in model.linkage(model.default_params).pins]
-    return np.asarray(trajectory.pin_forces)[:, pins.index(model.roles.contact_pin), :]
+    pin = model.linkage(model.default_params).pin_index(model.roles.contact_pin)
+    return np.asarray(trajectory.pin_forces)[:, pin, :]
