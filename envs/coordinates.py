@@ -8,6 +8,12 @@ physical leg ("a" or "b") in the stance role.
 
 qpos = ``[hip x, hip z, torso angle, hip_a, knee_a, hip_b, knee_b]``, where a hip angle
 is ``theta_thigh - theta_torso`` and a knee angle ``theta_shank - theta_thigh`` (flexion).
+
+The walker and the ``rolling-feet`` walker share this layout and their actuators (the
+walker's ``ACTUATORS``; :func:`check_actuators`). The root is the hip, read off the
+demonstration's segment positions, which place the stance foot where the optimizer's
+ground pin holds it: a point foot at the origin, a rolling arc with its contact point
+moved along the ground by ``R theta`` (the arc's anchor at the origin).
 """
 
 from __future__ import annotations
@@ -36,6 +42,15 @@ def _role_name(joint: str, stance: str) -> str:
 _MOTOR_FROM_ROLE = {st: [ACTUATORS.index(_role_name(m, st)) for m in MOTORS] for st in LEGS}
 #: For each stance leg: qvel index of each role joint, in ``ACTUATORS`` order (motors share joint names).
 _DOF_OF_ROLE = {st: [JOINTS.index(MOTORS[_MOTOR_FROM_ROLE[st].index(r)]) for r in range(len(ACTUATORS))] for st in LEGS}
+
+
+def check_actuators(linkage: Linkage) -> Linkage:
+    """Return ``linkage`` if its actuated joints are the MuJoCo motors' (``ACTUATORS``), else
+    raise ``ValueError`` (its demonstrations' torques would drive the wrong joints)."""
+    names = tuple(j.name for j in linkage.actuated)
+    if names != ACTUATORS:
+        raise ValueError(f"the MuJoCo models drive the joints {ACTUATORS}; this linkage's actuators are {names}")
+    return linkage
 
 
 def check_stance(stance: str) -> str:

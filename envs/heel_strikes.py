@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from envs.coordinates import check_stance, other_leg
-from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
+from ioc_bench.model.catalogue import get_model
 
 if TYPE_CHECKING:
     from ioc_bench.demo import Demonstration
@@ -44,10 +44,15 @@ LANDING_FRACTION = 0.75
 
 
 def step_length(demo: Demonstration) -> float:
-    """How far ahead of the stance foot the demonstration's swing foot lands (leg lengths)."""
-    link = walker_linkage(demo.params)
-    swing = demo.trajectory.point(link, *WALKER_ROLES.swing_foot)
-    stance = demo.trajectory.point(link, *WALKER_ROLES.stance_foot)
+    """How far ahead of the stance foot the demonstration's swing foot lands (leg lengths).
+
+    Measured between the feet's points (a rolling arc's centre, right above its contact
+    point), as the environment measures its feet (the sites ``foot_<leg>``).
+    """
+    model = get_model(demo.model)
+    link = model.linkage(demo.params)
+    swing = demo.trajectory.point(link, *model.roles.swing_foot)
+    stance = demo.trajectory.point(link, *model.roles.stance_foot)
     return float(swing[-1, 0] - stance[-1, 0])
 
 

@@ -10,6 +10,10 @@ two when the roles swap at a heel strike (:func:`set_stance_friction`). The feet
 contact priority over the floor so that their own ``condim`` decides (MuJoCo otherwise
 takes the larger of the two geoms'). docs/environment.md, "Grazing swing feet", has the
 measurements.
+
+Both MuJoCo models (:mod:`ioc_bench.model.mjcf`: the walker's point feet, the
+``rolling-feet`` walker's rolling spheres) share one layout; where a foot meets the
+ground is read from the gait model's linkage (:func:`foot_roll`), never retyped.
 """
 
 from __future__ import annotations
@@ -19,8 +23,13 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ioc_bench.model.mjcf import LEGS, ContactSettings, walker_mjcf
+from ioc_bench.model.catalogue import model_of
+from ioc_bench.model.feet import FootedParams
+from ioc_bench.model.mjcf import LEGS, ContactSettings, model_mjcf
 from ioc_bench.model.params import WalkerParams
+
+#: Parameters of the gait models that have a MuJoCo model.
+MujocoParams = WalkerParams | FootedParams
 
 #: The environment's physics: the generated model's contact settings with RK4 steps of
 #: 0.002 (Walker2d-v5's). Measured against 0.0005 (the MJCF default, which the open-loop
@@ -36,12 +45,30 @@ STANCE_CONDIM = 3
 SWING_CONDIM = 1
 
 
-def build_model(params: WalkerParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
-    """The compiled MuJoCo model of the walker for ``params`` (default: ``docs/spec.md``, "Segment parameters").
+def build_model(params: MujocoParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
+    """The compiled MuJoCo model for ``params`` (default: the walker of ``docs/spec.md``,
+    "Segment parameters"; a ``FootedParams``: the walker with rolling feet).
 
     ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
     """
-    return mujoco.MjModel.from_xml_string(walker_mjcf(params, contact or DEFAULT_CONTACT))
+    return mujoco.MjModel.from_xml_string(model_mjcf(params or WalkerParams(), contact or DEFAULT_CONTACT))
+
+
+def foot_roll(params: MujocoParams) -> float:
+    """Radius of the stance foot's rolling arc in the gait model's linkage (0: a point foot).
+
+    The site ``foot_<leg>`` is the linkage's foot point (the arc's centre), so the ground
+    contact, where the ground force acts, lies this far below it.
+    """
+    model = model_of(params)
+    segment, point = model.roles.stance_foot
+    return float(model.linkage(params).segment(segment).rolls.get(point, 0.0))
+
+
+def foot_contact_point(model: mujoco.MjModel, data: mujoco.MjData, leg: str, roll: float) -> np.ndarray:
+    """World position of where leg ``leg``'s foot meets the ground (kinematics computed):
+    the foot site, or the lowest point of its rolling arc of radius ``roll``."""
+    return data.site(f"foot_{leg}").xpos - np.array([0.0, 0.0, roll])
 
 
 def foot_geoms(model: mujoco.MjModel) -> dict[str, int]:

@@ -16,18 +16,23 @@ from envs.observation import observation_names
 from envs.physics import (
     DEFAULT_CONTACT,
     HealthyRange,
+    MujocoParams,
     build_model,
+    foot_contact_point,
     foot_geoms,
+    foot_roll,
     give_feet_priority,
     set_stance_friction,
 )
+from envs.reference import demo_linkage
 from envs.rendering import RENDERER_CHOICES, make_renderer
 from envs.state import WalkerState
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES, FEATURES, group_columns
+from ioc_bench.model.catalogue import model_of
 from ioc_bench.model.mjcf import LEGS, ContactSettings
 from ioc_bench.model.params import WalkerParams
-from ioc_bench.model.walker import ACTUATORS, WALKER, walker_linkage
+from ioc_bench.model.walker import ACTUATORS
 from ioc_bench.weights import WeightSpec, parse_weights
 
 #: Names of the reward terms in ``info``; the reward is their sum, in this order.
@@ -39,9 +44,6 @@ _PHYSICS_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
 DemonstrationSpec = Demonstration | str | os.PathLike
 
-#: Motor columns of each actuator group (the motors are in ``ACTUATORS`` order, leg a in stance).
-_GROUPS = group_columns(WALKER, ACTUATORS)
-
 
 class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     r"""
@@ -50,7 +52,9 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     point feet; Rebula et al., "A Robustness Analysis of Inverse Optimal Control of Bipedal
     Walking") in MuJoCo. The model is generated from the same `WalkerParams` the
     trajectory optimizer uses, so a model variant (e.g. `WalkerParams().with_leg_mass_scale(1.1)`)
-    is an argument, not a new environment. Everything is dimensionless: leg length 1, body
+    is an argument, not a new environment; so is the catalogue's `rolling-feet` walker
+    (`FootedParams()`: each shank ends in a rolling arc, a MuJoCo sphere of its radius,
+    and the knee is free within its range). Everything is dimensionless: leg length 1, body
     mass 1, gravity 1, time unit $\sqrt{L/g}$. The reward is forward progress minus the
     cost features the demonstrations minimise, so an optimal demonstration is a good
     policy and an IRL method can be scored on the weights.
@@ -202,7 +206,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
 
     | Parameter                  | Type              | Default       | Description                                  |
     |----------------------------|-------------------|---------------|----------------------------------------------|
-    | `params`                   | `WalkerParams`    | nominal       | the walker model (`docs/spec.md`)            |
+    | `params`                   | `WalkerParams`    | nominal       | the model; `FootedParams`: rolling feet      |
     | `weights`                  | weight spec       | `None`        | unit-normalised; None: see Rewards           |
     | `demonstration`            | `Demonstration`, path or None | `None` | start every episode from its knot 0     |
     | `forward_reward_weight`    | `float`           | `1.0`         | weight of *reward_forward*                   |
@@ -252,7 +256,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
 
     def __init__(
         self,
-        params: WalkerParams | None = None,
+        params: MujocoParams | None = None,
         weights: WeightSpec | None = None,
         demonstration: DemonstrationSpec | None = None,
         forward_reward_weight: float = 1.0,
@@ -320,6 +324,9 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self._prev_torque: np.ndarray | None = None
         self._stance = StanceTracker()
         self._feet = {leg: self.model.site(f"foot_{leg}").id for leg in LEGS}
+        self._foot_roll = foot_roll(self.params)
+        #: Motor columns of each actuator group (motors in ``ACTUATORS`` order, leg a in stance).
+        self._groups = group_columns(model_of(self.params), ACTUATORS)
         self._foot_geoms = foot_geoms(self.model)
         self._set_friction()
         #: The noiseless standing start: straight legs, hip one leg length above the feet, at rest.
@@ -442,6 +449,8 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     def _checked_demonstration(self, demo: DemonstrationSpec) -> Demonstration:
         if not isinstance(demo, Demonstration):
             demo = Demonstration.load(demo)
+        if model_of(demo.params) is not model_of(self.params):
+            raise ValueError(f"the demonstration is of the {demo.model!r} model, not this environment's")
         lengths = [(s.length, s.com) for s in (demo.params.torso, demo.params.thigh, demo.params.shank)]
         if lengths != [(s.length, s.com) for s in (self.params.torso, self.params.thigh, self.params.shank)]:
             raise ValueError("the demonstration's segment lengths differ from this environment's walker")
@@ -449,7 +458,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
 
     def _demonstration_state(self, demo: Demonstration) -> tuple[np.ndarray, np.ndarray]:
         tr = demo.trajectory
-        qpos, qvel, _ = to_generalized(walker_linkage(demo.params), tr.q[0], tr.v[0], None, LEGS[0])
+        qpos, qvel, _ = to_generalized(demo_linkage(demo), tr.q[0], tr.v[0], None, LEGS[0])
         return qpos, qvel
 
     def _standing_state(self) -> tuple[np.ndarray, np.ndarray, str]:
@@ -462,7 +471,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         self.data.qpos[:] = qpos
         self.data.qpos[1] = 0.0
         mujoco.mj_kinematics(self.model, self.data)
-        feet = [self.data.site_xpos[self._feet[leg]][2] for leg in LEGS]
+        feet = [foot_contact_point(self.model, self.data, leg, self._foot_roll)[2] for leg in LEGS]
         qpos[1] = -min(feet)
         return qpos, qvel, LEGS[int(np.argmin(feet))]
 
@@ -512,7 +521,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         """The reward terms, the raw cost-feature increments and the state summary of one step."""
         dt = self.dt
         prev = torque if self._prev_torque is None else self._prev_torque
-        phi = {name: float(FEATURES[name].increment(torque, prev, dt, _GROUPS)) for name in COST_FEATURES}
+        phi = {name: float(FEATURES[name].increment(torque, prev, dt, self._groups)) for name in COST_FEATURES}
         info: dict[str, Any] = {"reward_forward": self.forward_reward_weight * (x_after - x_before) / dt}
         for w, name in zip(self.weights, COST_FEATURES):
             info[f"reward_{name}"] = -self.cost_scale * float(w) * phi[name]

@@ -14,10 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from envs.coordinates import to_generalized
+from envs.coordinates import check_actuators, to_generalized
 from ioc_bench.demo import Demonstration
+from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.linkage import Linkage, point_offset
-from ioc_bench.model.walker import ACTUATORS, walker_linkage
+from ioc_bench.model.walker import ACTUATORS
 from ioc_bench.trajopt.collocation import interpolate, quadratic
 
 #: Fine samples of the phase path per knot interval (enough for linear interpolation).
@@ -50,7 +51,7 @@ class Reference:
 
     @classmethod
     def of(cls, demo: Demonstration) -> Reference:
-        link = walker_linkage(demo.params)
+        link = demo_linkage(demo)
         tr = demo.trajectory
         jmap = np.zeros((len(ACTUATORS), len(link.segments)))
         for i, joint in enumerate(link.actuated):
@@ -108,8 +109,18 @@ class Reference:
         return tg, x, xd
 
 
+def demo_linkage(demo: Demonstration) -> Linkage:
+    """The linkage of ``demo``'s gait model and parameters (``ValueError`` if its actuators
+    are not the MuJoCo models')."""
+    return check_actuators(get_model(demo.model).linkage(demo.params))
+
+
 def hip_over_foot(link: Linkage, theta: np.ndarray, omega: np.ndarray) -> tuple[float, float]:
     """Forward position and velocity of the hip relative to the stance foot, from segment angles.
+
+    The stance foot is where the ground pin holds it: the foot point, or for a rolling arc
+    its anchor (``R theta`` behind the arc's centre, the contact point), which stays put
+    while the arc rolls. So the velocity is the hip's own while the foot does not slip.
 
     Args:
         link: the walker's linkage (role-named segments).
@@ -118,7 +129,11 @@ def hip_over_foot(link: Linkage, theta: np.ndarray, omega: np.ndarray) -> tuple[
     x = xd = 0.0
     for name, (upper, lower) in (("thigh_stance", ("hip", "knee")), ("shank_stance", ("knee", "foot"))):
         i = link.index(name)
-        (ux, uz), (lx, lz) = (point_offset(link.segments[i], p, theta[i]) for p in (upper, lower))
+        segment = link.segments[i]
+        (ux, uz), (lx, lz) = (point_offset(segment, p, theta[i]) for p in (upper, lower))
         x += float(ux - lx)
         xd += float(omega[i] * (uz - lz))
+        if lower in segment.rolls:
+            x += float(segment.rolls[lower] * theta[i])
+            xd += float(segment.rolls[lower] * omega[i])
     return x, xd

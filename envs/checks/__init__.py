@@ -39,9 +39,10 @@ from envs.checks.physics_checks import (
     stance_ground_forces,
     time_consistency_check,
 )
+from envs.physics import MujocoParams
 from envs.tracking import PDGains
 from ioc_bench.demo import Demonstration
-from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.feet import ROLLING_FEET
 from ioc_bench.model.walker import WALKER
 
 
@@ -94,7 +95,7 @@ class ReplayReport:
 
 
 #: The gait models that have a MuJoCo model (``ioc_bench.model.mjcf``) to check and replay in.
-REPLAYABLE_MODELS = (WALKER.name,)
+REPLAYABLE_MODELS = (WALKER.name, ROLLING_FEET.name)
 
 
 def check_replayable(demo: Demonstration) -> None:
@@ -102,15 +103,15 @@ def check_replayable(demo: Demonstration) -> None:
     catalogue have none yet: their demonstrations are verified by the optimizer only)."""
     if demo.model not in REPLAYABLE_MODELS:
         raise ValueError(
-            f"a {demo.model!r} demonstration cannot be replayed: only the {', '.join(REPLAYABLE_MODELS)} "
-            "model has a MuJoCo model so far"
+            f"a {demo.model!r} demonstration cannot be replayed: only the {' and '.join(REPLAYABLE_MODELS)} "
+            "models have a MuJoCo model so far"
         )
 
 
 def replay(
     demo: Demonstration,
     steps: int = DEFAULT_STEPS,
-    params: WalkerParams | None = None,
+    params: MujocoParams | None = None,
     gains: PDGains | None = None,
 ) -> ReplayReport:
     """Check ``demo`` against the MuJoCo model of ``params`` (default: its own), and replay it.

@@ -27,11 +27,10 @@ from typing import Any
 import numpy as np
 
 from envs.coordinates import other_leg
-from envs.physics import DEFAULT_CONTACT, HealthyRange
+from envs.physics import DEFAULT_CONTACT, HealthyRange, MujocoParams
 from envs.tracking import PDGains, TrackingPolicy
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, ContactSettings
-from ioc_bench.model.params import WalkerParams
 
 #: Feedback share at or above which the closed loop is reported as not following the
 #: demonstration (reported, not judged: the physical verdict is ``envs.checks.physics_checks``).
@@ -128,7 +127,7 @@ def closed_loop_replay(
     demo: Demonstration,
     steps: int = DEFAULT_STEPS,
     gains: PDGains | None = None,
-    params: WalkerParams | None = None,
+    params: MujocoParams | None = None,
     healthy: HealthyRange | None = None,
     contact: ContactSettings | None = None,
     control_dt: float | None = CHECK_CONTROL_DT,

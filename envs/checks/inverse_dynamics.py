@@ -2,8 +2,10 @@
 
 MuJoCo's ``mj_inverse`` on every knot's state and acceleration, with constraints
 (contacts, limits) disabled, must give the optimizer's joint torques (actuators plus
-knee-locks) plus the stance foot's ground force mapped through the foot Jacobian,
-``J_foot^T F_ground``; the root DOFs carry no actuator, so their residual must vanish too.
+knee-locks) plus the stance foot's ground force mapped through the Jacobian of the point
+where it acts, ``J_foot^T F_ground``: the foot point, or the lowest point of a rolling arc
+(radius from the gait model's linkage, ``envs.physics.foot_roll``). The root DOFs carry no
+actuator, so their residual must vanish too.
 Figure of merit: ``max |residual| / max |tau|`` over knots and DOFs. Matching models give
 ~1e-12; a model with 10 % heavier legs gives several hundred percent (the
 demonstrations' torques are small, ~0.06 m g L, while a mass error shifts forces by
@@ -19,12 +21,12 @@ import mujoco
 import numpy as np
 
 from envs.coordinates import generalized_torques
-from envs.physics import build_model
+from envs.physics import MujocoParams, build_model, foot_contact_point, foot_roll
 from envs.reference import Reference
 from ioc_bench.demo import Demonstration
+from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.mjcf import JOINTS
-from ioc_bench.model.params import WalkerParams
-from ioc_bench.model.walker import ACTUATORS, LOCKS, PINS, WALKER_ROLES
+from ioc_bench.model.walker import ACTUATORS
 
 #: Inverse-dynamics residual above which the models are judged different (relative to peak torque).
 ID_TOLERANCE = 1e-3
@@ -70,7 +72,7 @@ class InverseDynamicsResult:
 
 def inverse_dynamics_check(
     demo: Demonstration,
-    params: WalkerParams | None = None,
+    params: MujocoParams | None = None,
     tolerance: float = ID_TOLERANCE,
 ) -> InverseDynamicsResult:
     """Compare MuJoCo's inverse dynamics with the demonstration's torques at every knot.
@@ -81,19 +83,20 @@ def inverse_dynamics_check(
             (say the nominal one for a heavy-legs demonstration) must fail the check.
         tolerance: relative residual at or above which the check fails.
     """
-    model = build_model(params or demo.params)
+    p = params or demo.params
+    model = build_model(p)
     model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
     data = mujoco.MjData(model)
     ref, tr = Reference.of(demo), demo.trajectory
-    foot = model.site("foot_a").id
-    ground = PINS.index(WALKER_ROLES.contact_pin)
-    knees = [ACTUATORS.index(n) for n in LOCKS]
+    shank, roll = int(model.site_bodyid[model.site("foot_a").id]), foot_roll(p)
+    ground = ref.linkage.pin_index(get_model(demo.model).roles.contact_pin)
+    knees = [ACTUATORS.index(j.name) for j in ref.linkage.locked]
     jac = np.zeros((3, model.nv))
     residual = np.zeros((tr.n_knots, model.nv))
     for k in range(tr.n_knots):
         data.qpos[:], data.qvel[:], data.qacc[:] = ref.qpos[k], ref.qvel[k], ref.qacc[k]
         mujoco.mj_inverse(model, data)
-        mujoco.mj_jacSite(model, data, jac, None, foot)
+        mujoco.mj_jac(model, data, jac, None, foot_contact_point(model, data, "a", roll), shank)
         joint = tr.tau[k].copy()
         joint[knees] += tr.lock[k]
         fx, fz = tr.pin_forces[k, ground]

@@ -23,10 +23,10 @@ from typing import Any
 import numpy as np
 
 from envs.coordinates import motor_controls
+from envs.physics import MujocoParams
 from envs.reference import Reference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, ContactSettings
-from ioc_bench.model.params import WalkerParams
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,7 +79,7 @@ def knot_aligned(contact: ContactSettings | None, knot_spacing: float) -> Contac
 
 def open_loop_replay(
     demo: Demonstration,
-    params: WalkerParams | None = None,
+    params: MujocoParams | None = None,
     contact: ContactSettings | None = None,
 ) -> OpenLoopResult:
     """Simulate one step from the demonstration's initial state with its torques alone.

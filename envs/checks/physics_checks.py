@@ -15,7 +15,8 @@ optimizer wrote them) and compares it with one limit:
    walker's own friction coefficient (``params.friction``): its largest excess
    ``|f_x| - mu f_z``, in body weights.
 5. ``swing_penetration``: the swing foot stays at or above the ground (height 0) at
-   every knot: its depth below it, in leg lengths.
+   every knot: its depth below it, in leg lengths (the foot point's, or a rolling arc's
+   lowest point's).
 6. ``knee_range``: both knees stay within ``[0, knee_max_flexion]`` (0 is straight, where
    the knee-lock holds): the largest excursion beyond, in rad.
 
@@ -36,11 +37,10 @@ import mujoco
 import numpy as np
 
 from envs.checks.inverse_dynamics import ID_TOLERANCE, InverseDynamicsResult
-from envs.physics import build_model
+from envs.physics import MujocoParams, build_model, foot_contact_point, foot_roll
 from envs.reference import Reference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, LEGS
-from ioc_bench.model.params import WalkerParams
 from ioc_bench.trajopt.collocation import defects
 from ioc_bench.trajopt.solution import FEASIBILITY_TOL
 
@@ -141,7 +141,7 @@ def time_consistency_check(demo: Demonstration, tolerance: float = TIMING_TOL) -
     return _judge("time_consistency", value, tolerance, "<=", quantity, why, knot)
 
 
-def stance_ground_forces(demo: Demonstration, params: WalkerParams | None = None) -> np.ndarray:
+def stance_ground_forces(demo: Demonstration, params: MujocoParams | None = None) -> np.ndarray:
     """(T, 2) ground force ``(f_x, f_z)`` on the stance foot that the motion needs, knot by knot.
 
     MuJoCo's inverse dynamics (constraints disabled) of each knot's state and acceleration:
@@ -164,7 +164,7 @@ def stance_ground_forces(demo: Demonstration, params: WalkerParams | None = None
 
 
 def ground_force_checks(
-    demo: Demonstration, params: WalkerParams | None = None, tolerance: float = INEQUALITY_TOL
+    demo: Demonstration, params: MujocoParams | None = None, tolerance: float = INEQUALITY_TOL
 ) -> tuple[PhysicsCheck, PhysicsCheck]:
     """The stance foot's ground force: it never pulls, and it stays in the friction cone.
 
@@ -200,22 +200,24 @@ def ground_force_checks(
 
 
 def penetration_check(
-    demo: Demonstration, params: WalkerParams | None = None, tolerance: float = INEQUALITY_TOL
+    demo: Demonstration, params: MujocoParams | None = None, tolerance: float = INEQUALITY_TOL
 ) -> PhysicsCheck:
     """Depth of the swing foot below the ground (height 0) at the knots, in leg lengths.
 
     MuJoCo's forward kinematics of each knot with leg ``a`` in stance: the swing foot is
-    site ``foot_b``. Negative values are clearance (the foot's least height above ground).
+    site ``foot_b``, its lowest point a rolling arc's radius below it
+    (:func:`envs.physics.foot_contact_point`). Negative values are clearance (the foot's
+    least height above ground).
     """
-    model = build_model(params or demo.params)
+    p = params or demo.params
+    model = build_model(p)
     data = mujoco.MjData(model)
-    ref = Reference.of(demo)
-    foot = model.site(f"foot_{LEGS[1]}").id
+    ref, roll = Reference.of(demo), foot_roll(p)
     heights = np.zeros(len(ref.times))
     for k in range(len(ref.times)):
         data.qpos[:] = ref.qpos[k]
         mujoco.mj_kinematics(model, data)
-        heights[k] = data.site_xpos[foot, 2]
+        heights[k] = foot_contact_point(model, data, LEGS[1], roll)[2]
     k = int(np.argmin(heights))
     return _judge(
         "swing_penetration",
@@ -229,7 +231,7 @@ def penetration_check(
 
 
 def knee_range_check(
-    demo: Demonstration, params: WalkerParams | None = None, tolerance: float = INEQUALITY_TOL
+    demo: Demonstration, params: MujocoParams | None = None, tolerance: float = INEQUALITY_TOL
 ) -> PhysicsCheck:
     """Largest excursion of a knee beyond ``[0, knee_max_flexion]`` (rad).
 
@@ -256,7 +258,7 @@ def knee_range_check(
 
 
 def physics_checks(
-    demo: Demonstration, inverse_dynamics: InverseDynamicsResult, params: WalkerParams | None = None
+    demo: Demonstration, inverse_dynamics: InverseDynamicsResult, params: MujocoParams | None = None
 ) -> tuple[PhysicsCheck, ...]:
     """Every physical check of ``demo`` against the model of ``params`` (default: its own).
 

@@ -51,7 +51,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--model",
         choices=MODELS,
         default="demo",
-        help="MuJoCo model: the demonstration's own parameters (default) or the nominal walker",
+        help="MuJoCo model: the demonstration's own parameters (default) or its gait model's nominal ones",
     )
     p.add_argument("--no-video", action="store_true", help="skip the GIF of the walk")
     add_json_flag(p)
@@ -85,9 +85,9 @@ def run(args: argparse.Namespace) -> int:
 def _replay_one(path: Path, demo: Any, args: argparse.Namespace) -> dict[str, Any]:
     import envs.checks as checks  # lazily: ioc_bench must not need envs (or MuJoCo) to import
     import envs.plots as plots
-    from ioc_bench.model.params import WalkerParams
+    from ioc_bench.model.catalogue import get_model
 
-    params = demo.params if args.model == "demo" else WalkerParams()
+    params = demo.params if args.model == "demo" else get_model(demo.model).default_params
     report = checks.replay(demo, steps=args.steps, params=params)
     out_dir = _out_dir(path, args)
     stem = path.stem

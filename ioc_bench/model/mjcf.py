@@ -55,6 +55,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ioc_bench.model.feet import FootedParams
 from ioc_bench.model.params import SegmentParams, WalkerParams
 
 #: Radius of each foot's collision sphere (leg lengths).
@@ -107,11 +108,58 @@ def _inertial(seg: SegmentParams, com_z: float) -> str:
     return f'<inertial pos="0 0 {com_z:.12g}" mass="{seg.mass:.12g}" diaginertia="{inertia}"/>'
 
 
-def _leg(p: WalkerParams, leg: str, c: ContactSettings) -> str:
+@dataclass(frozen=True)
+class FootSphere:
+    """Each foot's collision sphere, in its shank's frame.
+
+    Attributes:
+        radius: the sphere's radius (leg lengths).
+        lift: its centre above the shank's end, along the shank's axis.
+        roll: radius of the optimizer's rolling arc at the foot (0: a point foot), whose
+            centre is the sphere's: the ground contact lies ``roll`` below the site ``foot_<leg>``.
+    """
+
+    radius: float
+    lift: float
+    roll: float
+
+    @property
+    def floor_z(self) -> float:
+        """Height of the floor plane: the sphere's lowest point with the shank vertical and
+        its end at z = 0 (the optimizer's ground)."""
+        return self.lift - self.radius
+
+
+def foot_sphere(params: WalkerParams | FootedParams) -> FootSphere:
+    """The feet of ``params``: a point foot's tiny sphere, or a rolling arc's whole sphere.
+
+    Raises:
+        ValueError: for a walker with feet that do not roll (it has no MuJoCo model).
+    """
+    if isinstance(params, WalkerParams):
+        return FootSphere(FOOT_RADIUS, 0.0, 0.0)
+    if params.feet != "roll":
+        raise ValueError(f"of the walkers with feet only rolling feet have a MuJoCo model, got {params.feet!r}")
+    return FootSphere(params.roll_radius, params.roll_radius, params.roll_radius)
+
+
+def _foot(p: WalkerParams | FootedParams, leg: str, foot: FootSphere) -> list[str]:
+    """The foot's collision sphere, its visual and its site ``foot_<leg>`` (the sphere's centre)."""
+    rgba = _COLORS[leg]
+    pos = f'pos="0 0 {-p.shank.length + foot.lift:.12g}"'
+    # A point foot is drawn as a ball; a rolling foot as its (translucent) sphere.
+    visual = f'size="0.03" rgba="{rgba}"' if foot.roll == 0 else f'size="{foot.radius:.12g}" rgba="{rgba[:-1]}0.25"'
+    return [
+        f'<geom name="foot_{leg}" class="foot" type="sphere" {pos} size="{foot.radius:.12g}" rgba="{rgba}"/>',
+        f'<geom name="foot_{leg}_visual" class="visual" type="sphere" {pos} {visual}/>',
+        f'<site name="foot_{leg}" {pos} size="0.01"/>',
+    ]
+
+
+def _leg(p: WalkerParams | FootedParams, leg: str, c: ContactSettings, foot: FootSphere) -> str:
     """Thigh, shank and foot of one leg, as nested bodies (indented for the torso)."""
     th, sh, rgba = p.thigh, p.shank, _COLORS[leg]
     knee_range = f'range="0 {p.knee_max_flexion:.12g}" limited="true" solreflimit="{_fmt(*c.limit_solref)}"'
-    foot = f'pos="0 0 {-sh.length:.12g}"'
     lines = [
         f'<body name="thigh_{leg}" pos="0 0 0">',
         f'  <joint name="hip_{leg}" type="hinge" axis="0 1 0" pos="0 0 0"/>',
@@ -123,9 +171,7 @@ def _leg(p: WalkerParams, leg: str, c: ContactSettings) -> str:
         f"    {_inertial(sh, -sh.com)}",
         f'    <geom name="shank_{leg}" class="visual" type="capsule" fromto="0 0 0 0 0 {-sh.length:.12g}" '
         f'size="0.025" rgba="{rgba}"/>',
-        f'    <geom name="foot_{leg}" class="foot" type="sphere" {foot} size="{FOOT_RADIUS}" rgba="{rgba}"/>',
-        f'    <geom name="foot_{leg}_visual" class="visual" type="sphere" {foot} size="0.03" rgba="{rgba}"/>',
-        f'    <site name="foot_{leg}" {foot} size="0.01"/>',
+        *(f"    {line}" for line in _foot(p, leg, foot)),
         "  </body>",
         "</body>",
     ]
@@ -142,15 +188,40 @@ def walker_mjcf(params: WalkerParams | None = None, contact: ContactSettings | N
     Returns:
         The model as an XML string, for ``mujoco.MjModel.from_xml_string``.
     """
-    p = params or WalkerParams()
-    c = contact or ContactSettings()
+    return _mjcf("ioc_bench_planar_walker", params or WalkerParams(), contact or ContactSettings())
+
+
+def rolling_feet_mjcf(params: FootedParams | None = None, contact: ContactSettings | None = None) -> str:
+    """MJCF of the walker with rolling feet for ``params`` (default: ``FootedParams()``, the
+    catalogue's ``rolling-feet``): the walker's bodies and joints, each foot a sphere of
+    ``roll_radius`` (module docstring, "Rolling feet").
+
+    Raises:
+        ValueError: if ``params``' feet do not roll.
+    """
+    return _mjcf("ioc_bench_rolling_feet", params or FootedParams(), contact or ContactSettings())
+
+
+def model_mjcf(params: WalkerParams | FootedParams, contact: ContactSettings | None = None) -> str:
+    """MJCF of the gait model ``params`` are the parameters of (by type): the walker's or the
+    rolling-feet walker's. ``ValueError`` for parameters of a model without a MuJoCo model."""
+    if isinstance(params, WalkerParams):
+        return walker_mjcf(params, contact)
+    if isinstance(params, FootedParams):
+        return rolling_feet_mjcf(params, contact)
+    raise ValueError(f"no MuJoCo model for parameters of type {type(params).__name__}")
+
+
+def _mjcf(name: str, p: WalkerParams | FootedParams, c: ContactSettings) -> str:
+    """The model's XML: options, floor, torso with two legs, motors, standing keyframe."""
+    foot = foot_sphere(p)
     to, mu, tmax = p.torso, f"{p.friction:.12g}", p.max_torque
     contact_params = f'solref="{_fmt(*c.solref)}" solimp="{_fmt(*c.solimp)}" friction="{mu} 0 0" condim="3"'
     motors = "\n".join(
         f'    <motor name="{m}" joint="{m}" gear="1" ctrllimited="true" ctrlrange="{_fmt(-tmax, tmax)}"/>'
         for m in MOTORS
     )
-    return f"""<mujoco model="ioc_bench_planar_walker">
+    return f"""<mujoco model="{name}">
   <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>
   <option timestep="{c.timestep:.12g}" gravity="0 0 {-p.gravity:.12g}" integrator="RK4" cone="pyramidal"
           noslip_iterations="{c.noslip_iterations}"/>
@@ -174,7 +245,7 @@ def walker_mjcf(params: WalkerParams | None = None, contact: ContactSettings | N
   </asset>
   <worldbody>
     <light name="light" pos="0 -2 4" dir="0 0.5 -1" directional="true"/>
-    <geom name="floor" type="plane" pos="0 0 {-FOOT_RADIUS}" size="0 0 0.05" material="grid"
+    <geom name="floor" type="plane" pos="0 0 {foot.floor_z:.12g}" size="0 0 0.05" material="grid"
           contype="0" conaffinity="1" {contact_params}/>
     <body name="torso" pos="0 0 0">
       <joint name="rootx" type="slide" axis="1 0 0" pos="0 0 0"/>
@@ -185,8 +256,8 @@ def walker_mjcf(params: WalkerParams | None = None, contact: ContactSettings | N
             rgba="{_COLORS["torso"]}"/>
       <site name="hip" pos="0 0 0" size="0.01"/>
       <camera name="track" mode="trackcom" pos="0 -3.2 -0.15" xyaxes="1 0 0 0 0 1"/>
-{_leg(p, "a", c)}
-{_leg(p, "b", c)}
+{_leg(p, "a", c, foot)}
+{_leg(p, "b", c, foot)}
     </body>
   </worldbody>
   <actuator>

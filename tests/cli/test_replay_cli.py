@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ioc_bench import Demonstration
+from ioc_bench import Demonstration, Task, optimize_gait
 from ioc_bench.cli import main
 
 
@@ -217,11 +217,14 @@ def test_every_output_file_is_checked_before_the_first_replay(demo_file, tmp_pat
 
 
 def test_a_demonstration_of_a_model_without_mujoco_model_is_one_line_before_any_replay(
-    rolling_feet_demo: Demonstration, demo_file: str, tmp_path, capsys
+    demo_file: str, tmp_path, capsys
 ):
-    """A rolling-feet step has no MuJoCo model to be checked in: refused by name, exit 2, and
+    """A compass step has no MuJoCo model to be checked in: refused by name, exit 2, and
     refused before the walker's demonstration listed first is replayed (nothing written)."""
-    other = str(rolling_feet_demo.save(tmp_path / "feet.npz"))
+    from ioc_bench.model.compass import COMPASS
+
+    compass = optimize_gait("nominal", task=Task(0.27), starts=1, seed=0, workers=1, model=COMPASS)
+    other = str(compass.save(tmp_path / "compass.npz"))
     err = _bad_exit(["replay", demo_file, other, "--no-video", "--out", str(tmp_path / "out")], capsys)
-    assert "feet.npz: a 'rolling-feet' demonstration cannot be replayed: only the walker model" in err
+    assert "compass.npz: a 'compass' demonstration cannot be replayed: only the walker and rolling-feet" in err
     assert not (tmp_path / "out").exists()  # refused before the output folder is made

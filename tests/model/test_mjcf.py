@@ -1,13 +1,28 @@
-"""The MJCF is generated from WalkerParams and matches the optimizer's walker."""
+"""The MJCF is generated from the model's parameters and matches the optimizer's walker
+(point feet) or walker with rolling feet."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import mujoco
 import numpy as np
 import pytest
 
 from ioc_bench import WalkerParams
-from ioc_bench.model.mjcf import FOOT_RADIUS, JOINTS, MOTORS, ContactSettings, walker_mjcf
+from ioc_bench.model.feet import ROLL_RADIUS, FootedParams, footed_linkage
+from ioc_bench.model.mjcf import (
+    FOOT_RADIUS,
+    JOINTS,
+    MOTORS,
+    ContactSettings,
+    FootSphere,
+    foot_sphere,
+    model_mjcf,
+    rolling_feet_mjcf,
+    walker_mjcf,
+)
+from ioc_bench.model.params import CompassParams
 from ioc_bench.model.walker import ACTUATORS
 
 
@@ -106,3 +121,69 @@ def test_contact_settings_are_validated():
         ContactSettings(timestep=0.0)
     m = mujoco.MjModel.from_xml_string(walker_mjcf(contact=ContactSettings(timestep=0.00025)))
     assert m.opt.timestep == pytest.approx(0.00025)
+
+
+# -- the walker with rolling feet ---------------------------------------------------------
+
+
+def _rolling(params: FootedParams | None = None) -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_string(rolling_feet_mjcf(params))
+
+
+@pytest.mark.parametrize("radius", [ROLL_RADIUS, 0.2], ids=["nominal", "radius-0.2"])
+def test_rolling_foot_is_a_sphere_of_the_arc_from_params(radius: float):
+    """Each foot's sphere is the linkage's rolling arc: its radius, centred on the arc's
+    centre (``roll_radius`` up the shank from its end), the site ``foot_<leg>`` there."""
+    params = replace(FootedParams(), roll_radius=radius)
+    m = _rolling(params)
+    shank = footed_linkage(params).segment("shank_stance")
+    (knee, _), (centre, _) = shank.points["knee"], shank.points["foot"]
+    assert shank.rolls["foot"] == radius
+    for leg in "ab":
+        geom = m.geom(f"foot_{leg}")
+        assert geom.type[0] == mujoco.mjtGeom.mjGEOM_SPHERE
+        assert geom.size[0] == pytest.approx(radius)
+        assert geom.pos == pytest.approx([0, 0, centre - knee])  # in the shank frame, knee at 0
+        assert geom.pos[2] == pytest.approx(radius - params.shank.length)
+        assert m.site(f"foot_{leg}").pos == pytest.approx(geom.pos)
+    assert m.geom("floor").pos[2] == 0.0
+
+
+def test_rolling_feet_stand_on_their_lowest_points_at_zero_height():
+    m = _rolling()
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("stand").id)
+    mujoco.mj_forward(m, d)
+    assert d.qpos[1] == pytest.approx(FootedParams().leg_length)
+    assert d.ncon == 2
+    for c in d.contact[: d.ncon]:
+        assert c.dist == pytest.approx(0.0, abs=1e-12)
+        assert c.pos == pytest.approx([0.0, 0.0, 0.0], abs=1e-12)
+
+
+def test_rolling_feet_share_the_walker_layout_knee_range_and_masses():
+    params = replace(FootedParams(), knee_max_flexion=2.0, friction=0.7)
+    m = _rolling(params)
+    assert tuple(_names(m, "joint", m.njnt)) == JOINTS
+    assert tuple(_names(m, "actuator", m.nu)) == MOTORS
+    for leg in "ab":
+        assert m.joint(f"knee_{leg}").range == pytest.approx([0.0, 2.0])
+        assert m.jnt_limited[m.joint(f"knee_{leg}").id]
+        assert m.body(f"shank_{leg}").mass[0] == pytest.approx(params.shank.mass)
+        geom = m.geom(f"foot_{leg}")
+        # Sliding friction only: the sphere rolls freely, without torsional or rolling friction.
+        assert geom.friction == pytest.approx([0.7, 0.0, 0.0])
+        assert geom.condim[0] == 3
+    assert m.body_mass.sum() == pytest.approx(params.total_mass)
+    colliding = {m.geom(i).name for i in range(m.ngeom) if m.geom_contype[i] or m.geom_conaffinity[i]}
+    assert colliding == {"floor", "foot_a", "foot_b"}
+
+
+def test_model_mjcf_dispatches_by_parameter_type():
+    assert model_mjcf(WalkerParams()) == walker_mjcf()
+    assert model_mjcf(FootedParams()) == rolling_feet_mjcf()
+    assert foot_sphere(WalkerParams()) == FootSphere(FOOT_RADIUS, 0.0, 0.0)
+    with pytest.raises(ValueError, match="only rolling feet"):
+        model_mjcf(replace(FootedParams(), feet="ankle"))
+    with pytest.raises(ValueError, match="no MuJoCo model"):
+        model_mjcf(CompassParams())
