@@ -32,7 +32,7 @@ from ioc_bench.trajopt.solution import SolverReport, StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
 
 #: Bump whenever the transcription or solver settings change the optima.
-SOLVER_REVISION = 5
+SOLVER_REVISION = 6
 #: Multi-start seed of a demonstration made outside a case (a case uses its own seed, so
 #: seeds vary the demonstration as a new experiment would).
 DEMO_SEED = 0

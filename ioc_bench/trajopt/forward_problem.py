@@ -1,10 +1,11 @@
 """The forward problem: one gait model's step NLP, built once per process, solved many times.
 
 A :class:`ForwardProblem` owns everything about the step problem of one model and interval
-count: the transcribed NLP (:class:`~ioc_bench.trajopt.step_problem.StepProblem`), its two
-compiled IPOPT instances (cold starts; warm primal-dual starts, as IOC inner loops re-solve
-near a known optimum), the parameter vector and bounds of a solve, the map between
-trajectories and decision vectors, and the derivatives (:attr:`ForwardProblem.derivatives`).
+count: the transcribed NLP (:class:`~ioc_bench.trajopt.step_problem.StepProblem`), its
+IPOPT instances (cold starts, on lock-scaled variables; cold projections; warm primal-dual
+starts, as IOC inner loops re-solve near a known optimum), the parameter vector and bounds
+of a solve, the map between trajectories and decision vectors, and the derivatives
+(:attr:`ForwardProblem.derivatives`).
 A solve takes one :class:`SolveRequest` and returns a
 :class:`~ioc_bench.trajopt.solution.SolveResult`; a failed solve is a result, never an
 exception.
@@ -44,6 +45,14 @@ _TOLERANCES = {
 }
 COLD_OPTIONS = ipopt.options(ipopt.MUMPS, **_TOLERANCES, mu_init=1e-3)
 WARM_OPTIONS = ipopt.options(ipopt.MUMPS, ipopt.WARM_START, **_TOLERANCES)
+#: The cold solver's unit of the knee-lock torques and impulses: it solves for
+#: ``lock / LOCK_SCALE``. A change of variables cannot move an optimum, but it shrinks the
+#: saddle the bilinear lock penalty puts in the Hessian, so IPOPT regularises less: a cold
+#: start takes about half the iterations and reaches the same optima
+#: (``docs/performance.md``, "Which term costs a cold solve its iterations").
+LOCK_SCALE = 1e-4
+#: Blocks of the decision vector that :data:`LOCK_SCALE` applies to.
+LOCK_BLOCKS = ("lock", "lock_impulse")
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,10 +81,14 @@ class SolveRequest:
 class ForwardProblem:
     """The step NLP of ``model`` with ``n_intervals`` Hermite-Simpson intervals, and its solvers."""
 
-    def __init__(self, model: GaitModel = WALKER, n_intervals: int = DEFAULT_INTERVALS):
+    def __init__(self, model: GaitModel = WALKER, n_intervals: int = DEFAULT_INTERVALS, lock_scale: float = LOCK_SCALE):
         self.model = model
         self.step = StepProblem(model, n_intervals)
-        self._cold = ca.nlpsol("gait_cold", "ipopt", self.step.casadi_nlp, COLD_OPTIONS)
+        self._scale = np.ones(self.step.layout.size)
+        for name in LOCK_BLOCKS:
+            self._scale[self.step.layout.slice(name)] = lock_scale
+        self._cold = ca.nlpsol("gait_cold", "ipopt", _scaled(self.step.casadi_nlp, self._scale), COLD_OPTIONS)
+        self._cold_plain = ca.nlpsol("gait_cold_plain", "ipopt", self.step.casadi_nlp, COLD_OPTIONS)
         self._warm = ca.nlpsol("gait_warm", "ipopt", self.step.casadi_nlp, WARM_OPTIONS)
 
     # -- sizes and names -----------------------------------------------------------------
@@ -110,8 +123,9 @@ class ForwardProblem:
         return StepDerivatives(self.step, self.oracle)
 
     def oracle(self, name: str) -> ca.Function:
-        """One of the built IPOPT instance's own derivative functions (e.g. ``nlp_jac_g``)."""
-        return self._cold.get_function(name)
+        """One of the built IPOPT instance's own derivative functions (e.g. ``nlp_jac_g``), in
+        the NLP's own variables."""
+        return self._warm.get_function(name)
 
     # -- what a solve is given -----------------------------------------------------------
     def parameters(
@@ -165,6 +179,21 @@ class ForwardProblem:
             first = result.report
         return result
 
+    def _solver_for(self, request: SolveRequest) -> tuple[ca.Function, np.ndarray | float]:
+        """The IPOPT instance for a request and the unit of its variables.
+
+        Cold solves of the step use the lock-scaled instance. Cold projections (a tracking
+        term) keep the NLP's own variables: the reference of an observation, which every
+        algorithm starts from, is then the one it always was (measured: ``single-level``'s
+        last stage fails in a multi-trial case from the reference the scaled instance finds,
+        an equally valid projection within IPOPT's tolerance).
+        """
+        if request.start.warm:
+            return self._warm, 1.0
+        if request.tracking is not None:
+            return self._cold_plain, 1.0
+        return self._cold, self._scale
+
     def _solve_once(self, request: SolveRequest) -> SolveResult:
         p = self.parameters(
             request.params, request.task, request.weights, request.tracking, request.lock_penalty, request.rules
@@ -172,8 +201,8 @@ class ForwardProblem:
         lbx, ubx, lbg, ubg = bounds = self.bounds(request.params, request.task, request.rules)
         start = request.start
         x0 = np.clip(start.x, lbx, ubx)
-        args = {"x0": x0, "p": p, "lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
-        solver = self._warm if start.warm else self._cold
+        solver, d = self._solver_for(request)
+        args = {"x0": x0 / d, "p": p, "lbx": lbx / d, "ubx": ubx / d, "lbg": lbg, "ubg": ubg}
         if start.warm:
             args |= {"lam_x0": start.lam_x, "lam_g0": start.lam_g}
         t0 = time.perf_counter()
@@ -183,15 +212,15 @@ class ForwardProblem:
             status = str(stats.get("return_status", "unknown"))
             iterations = int(stats.get("iter_count", -1))
         except RuntimeError as exc:  # an evaluation error inside IPOPT
-            sol = {"x": x0, "lam_x": np.zeros_like(x0), "lam_g": np.zeros(len(lbg))}
+            sol = {"x": x0 / d, "lam_x": np.zeros_like(x0), "lam_g": np.zeros(len(lbg))}
             status, iterations = f"error: {exc}", -1
         wall = time.perf_counter() - t0
-        x = np.asarray(sol["x"], dtype=float).ravel()
+        x = np.asarray(sol["x"], dtype=float).ravel() * d
         return SolveResult(
             trajectory=self._trajectory(x, p),
             report=self._report(x, p, bounds, status, iterations, wall, start.warm),
             x=x,
-            lam_x=np.asarray(sol["lam_x"], dtype=float).ravel(),
+            lam_x=np.asarray(sol["lam_x"], dtype=float).ravel() / d,
             lam_g=np.asarray(sol["lam_g"], dtype=float).ravel(),
         )
 
@@ -301,6 +330,14 @@ class ForwardProblem:
         if step.tau is not None:
             blocks["tau"] = step.tau
         return self.step.layout.pack(blocks)
+
+
+def _scaled(nlp: dict[str, ca.SX], d: np.ndarray) -> dict[str, ca.SX]:
+    """``nlp`` in the variables ``y = x / d`` (the same problem: its optima are ``x = d * y``)."""
+    y = ca.SX.sym("y", nlp["x"].numel())
+    x = y * ca.DM(d)
+    f, g = ca.substitute([nlp["f"], nlp["g"]], [nlp["x"]], [x])
+    return {"x": y, "p": nlp["p"], "f": f, "g": g}
 
 
 def _inequality_sides(values: np.ndarray, lower: np.ndarray, upper: np.ndarray, tol: float) -> tuple[np.ndarray, ...]:

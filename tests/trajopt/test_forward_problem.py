@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import casadi as ca
 import numpy as np
 import pytest
 
 from ioc_bench import Task, optimize_gait
-from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
+from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.walker import WALKER
+from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, get_forward_problem
+from ioc_bench.trajopt.initial_guess import rough_step
 from ioc_bench.trajopt.solution import FEASIBILITY_TOL, StartPoint
 from ioc_bench.weights import full_weights, parse_weights
 
@@ -71,3 +75,24 @@ def test_a_solve_from_its_own_solution_stays_there(nominal_demo):
     assert result.report.objective == pytest.approx(nominal_demo.solver.objective, rel=1e-7)
     other = forward.solve(SolveRequest(start, nominal_demo.params, nominal_demo.task, weights[::-1].copy()))
     assert np.max(np.abs(other.x - start.x)) > 1e-2  # other weights: another optimum
+
+
+def test_the_cold_solvers_lock_scaling_is_a_change_of_variables_only():
+    """The cold solver works on scaled lock torques; the optimum it returns, and its
+    multipliers, are those of the NLP itself (the same optimum as without the scaling, and
+    the NLP's own KKT conditions hold in its own variables)."""
+    scaled = get_forward_problem()
+    plain = ForwardProblem(lock_scale=1.0)
+    weights = full_weights(parse_weights("nominal"), scaled.features)
+    x0 = scaled.step.layout.pack(rough_step(WALKER, WalkerParams(), 0.27, scaled.n_knots))
+    request = SolveRequest(StartPoint(x0), WalkerParams(), Task(0.27), weights)
+    a, b = scaled.solve(request), plain.solve(request)
+    assert a.report.success and b.report.success and not a.report.warm
+    assert a.report.objective == pytest.approx(b.report.objective, rel=1e-7)
+    assert np.max(np.abs(a.x - b.x)) < 1e-5
+    nlp = scaled.step.casadi_nlp
+    kkt = ca.Function("kkt", [nlp["x"], nlp["p"]], [ca.gradient(nlp["f"], nlp["x"]), ca.jacobian(nlp["g"], nlp["x"])])
+    p = scaled.parameters(WalkerParams(), Task(0.27), weights)
+    grad, jac = (np.asarray(m.full() if hasattr(m, "full") else m, dtype=float) for m in kkt(a.x, p))
+    residual = grad.ravel() + jac.T @ a.lam_g + a.lam_x
+    assert np.max(np.abs(residual)) < 1e-6
