@@ -255,11 +255,24 @@ class IOCProblem:
             )
         before, t0 = self.stats.calls["project"], time.perf_counter()
         plain = self.project(self.observed)
+        if not plain.success:
+            plain = self._projected_again(plain)
         found = plain if self.noise_level <= NOISE_FLOOR or not plain.success else self._smoothed(plain)
         if self.reference_store is not None and found.point is not None and found.report is not None:
             solves = self.stats.calls["project"] - before
             self.reference_store.put(self._reference_key, found.point, found.report, solves, time.perf_counter() - t0)
         return found
+
+    def _projected_again(self, failed: OracleSolution) -> OracleSolution:
+        """A failed projection of the observation retried from a feasible step: the optimum
+        for uniform weights, started where the projection stopped, then the projection warm
+        from it. ``failed`` if either solve fails. (On ``rolling-feet`` observations a cold
+        projection can end in restoration failure where this converges; ``docs/feet.md``.)"""
+        forward = self.optimize(np.ones(self.n_features), start=failed)
+        if not forward.success or forward.point is None:
+            return failed
+        again = self.project(self.observed, start=forward)
+        return again if again.success else failed
 
     def _fits(self, point: StartPoint) -> bool:
         """Whether a stored primal-dual point has this problem's shape and satisfies its constraints."""

@@ -1,6 +1,9 @@
-"""IOCProblem's oracles: a projection started warm at the reference is the cold one."""
+"""IOCProblem's oracles: a projection started warm at the reference is the cold one; a failed
+projection of the observation is tried again from a feasible step."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -35,3 +38,35 @@ def test_a_projection_start_that_is_not_a_solution_is_refused(problem, nominal_d
     for start in ("warm", 3, nominal_demo.trajectory):
         with pytest.raises(ValueError, match="start must be an OracleSolution"):
             problem.project(problem.observed, start=start)
+
+
+def _failing_cold_projection(problem: IOCProblem, always: bool = False) -> list:
+    """Make ``problem``'s cold projections (and, if ``always``, every projection) report
+    failure at the point they reached; returns the list of starts each call was given."""
+    real, calls = problem.project, []
+
+    def project(target, start=None):
+        calls.append(start)
+        found = real(target, start)
+        if start is not None and not always:
+            return found
+        return replace(found, success=False, report=replace(found.report, status="Restoration_Failed", success=False))
+
+    problem.project = project
+    return calls
+
+
+def test_a_failed_projection_of_the_observation_is_retried_from_a_feasible_step(nominal_demo):
+    truth = IOCProblem(observe(nominal_demo.trajectory, 0.0, None), COST_FEATURES, nominal_demo.params, nominal_demo.task)
+    problem = IOCProblem(truth.observed, COST_FEATURES, nominal_demo.params, nominal_demo.task)
+    calls = _failing_cold_projection(problem)
+    reference = problem.reference()
+    assert reference.success and len(calls) == 2 and calls[0] is None and calls[1] is not None
+    np.testing.assert_allclose(reference.features, truth.reference().features, rtol=1e-6)
+
+
+def test_a_projection_that_fails_again_is_the_reference_that_failed(nominal_demo):
+    problem = IOCProblem(observe(nominal_demo.trajectory, 0.0, None), COST_FEATURES, nominal_demo.params, nominal_demo.task)
+    calls = _failing_cold_projection(problem, always=True)
+    reference = problem.reference()
+    assert not reference.success and reference.report.status == "Restoration_Failed" and len(calls) == 2
