@@ -57,7 +57,9 @@ def _failing_cold_projection(problem: IOCProblem, always: bool = False) -> list:
 
 
 def test_a_failed_projection_of_the_observation_is_retried_from_a_feasible_step(nominal_demo):
-    truth = IOCProblem(observe(nominal_demo.trajectory, 0.0, None), COST_FEATURES, nominal_demo.params, nominal_demo.task)
+    truth = IOCProblem(
+        observe(nominal_demo.trajectory, 0.0, None), COST_FEATURES, nominal_demo.params, nominal_demo.task
+    )
     problem = IOCProblem(truth.observed, COST_FEATURES, nominal_demo.params, nominal_demo.task)
     calls = _failing_cold_projection(problem)
     reference = problem.reference()
@@ -66,7 +68,9 @@ def test_a_failed_projection_of_the_observation_is_retried_from_a_feasible_step(
 
 
 def test_a_projection_that_fails_again_is_the_reference_that_failed(nominal_demo):
-    problem = IOCProblem(observe(nominal_demo.trajectory, 0.0, None), COST_FEATURES, nominal_demo.params, nominal_demo.task)
+    problem = IOCProblem(
+        observe(nominal_demo.trajectory, 0.0, None), COST_FEATURES, nominal_demo.params, nominal_demo.task
+    )
     calls = _failing_cold_projection(problem, always=True)
     reference = problem.reference()
     assert not reference.success and reference.report.status == "Restoration_Failed" and len(calls) == 2
