@@ -111,7 +111,14 @@ def main() -> None:
     parser.add_argument("--against", type=Path, help="a saved run to compare with")
     parser.add_argument("--workers", type=int, default=None, help="multi-start processes (default: all cores)")
     args = parser.parse_args()
-    before = json.loads(args.against.read_text()) if args.against else None
+    if not args.save.parent.is_dir():
+        parser.error(f"--save {args.save}: folder {args.save.parent} does not exist")
+    try:
+        before = json.loads(args.against.read_text()) if args.against else None
+    except (OSError, ValueError) as exc:
+        parser.error(f"--against {args.against}: cannot be read as a saved run ({exc})")
+    if before is not None and not isinstance(before, dict):
+        parser.error(f"--against {args.against}: not a saved run (expected a JSON object)")
     after = solve_all(args.suite, args.workers)
     _save(args.save, after)
     if before is not None:

@@ -49,7 +49,7 @@ WARM_OPTIONS = ipopt.options(ipopt.MUMPS, ipopt.WARM_START, **_TOLERANCES)
 #: ``lock / LOCK_SCALE``. A change of variables cannot move an optimum, but it shrinks the
 #: saddle the bilinear lock penalty puts in the Hessian, so IPOPT regularises less: a cold
 #: start takes about half the iterations and reaches the same optima
-#: (``docs/performance.md``, "Which term costs a cold solve its iterations").
+#: (``docs/performance.md``, "Scaling the lock torques").
 LOCK_SCALE = 1e-4
 #: Blocks of the decision vector that :data:`LOCK_SCALE` applies to.
 LOCK_BLOCKS = ("lock", "lock_impulse")
@@ -87,8 +87,10 @@ class ForwardProblem:
         self._scale = np.ones(self.step.layout.size)
         for name in LOCK_BLOCKS:
             self._scale[self.step.layout.slice(name)] = lock_scale
-        self._cold = ca.nlpsol("gait_cold", "ipopt", _scaled(self.step.casadi_nlp, self._scale), COLD_OPTIONS)
         self._cold_plain = ca.nlpsol("gait_cold_plain", "ipopt", self.step.casadi_nlp, COLD_OPTIONS)
+        scaled = bool(np.any(self._scale != 1.0))  # a model without lock variables has nothing to scale
+        nlp = _scaled(self.step.casadi_nlp, self._scale) if scaled else None
+        self._cold = ca.nlpsol("gait_cold", "ipopt", nlp, COLD_OPTIONS) if scaled else self._cold_plain
         self._warm = ca.nlpsol("gait_warm", "ipopt", self.step.casadi_nlp, WARM_OPTIONS)
 
     # -- sizes and names -----------------------------------------------------------------
