@@ -48,6 +48,7 @@ from ioc_bench.ioc.nearest_optimum import nearest_optimum
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
+from ioc_bench.ioc.starts import further_starts, unit
 
 #: Tracking error given to the search for a candidate whose forward solve failed (it backtracks).
 FAILED_SOLVE_ERROR = 1e3
@@ -56,17 +57,6 @@ FAILED_SOLVE_ERROR = 1e3
 EXACT_FIT = 1e-14
 #: A weight below this (unit norm) counts as zero in the L1 path's information criterion.
 ACTIVE_WEIGHT = 1e-3
-
-
-#: The lowest weight (relative, before normalising) of the further starts: the inverse-KKT
-#: weights floored there, and one start per feature with that feature :data:`DOMINANT`
-#: times the others. Tried only when neither the uniform nor the inverse-KKT start fits the
-#: observation within its noise: a forward solve that fails at the inverse-KKT weights (one
-#: weight near zero) left the search at the uniform start, where no Gauss-Newton step
-#: lowered the error (measured under ``noise-kinematics``, ``docs/ioc.md``).
-MORE_STARTS = 0.05
-#: How much larger the dominant feature's weight is in its start.
-DOMINANT = 3.0
 
 
 #: Default ``ftol`` per method (see :class:`BilevelConfig`).
@@ -107,7 +97,7 @@ class BilevelConfig:
             nearest_optimum`: a solve straight from a reference whose torques were inferred
             can reach another optimum, one the data reject). Three solves instead of one;
             0: straight from the start only.
-        init: where the weights start: ``"best"`` (see :data:`MORE_STARTS`: the lower tracking
+        init: where the weights start: ``"best"`` (see :mod:`ioc_bench.ioc.starts`: the lower tracking
             error of uniform and inverse-KKT weights, and more starts when neither fits),
             ``"uniform"`` or ``"inverse-kkt"``.
         restarts: with ``init="best"``, Gauss-Newton fits from this many more of the ranked
@@ -281,15 +271,13 @@ class Bilevel(IOCAlgorithm):
         with problem.stats.timed("kkt_fit"):
             kkt = fit_kkt_trials(problem.trials, InverseKKTConfig())
         raw = kkt.weights if kkt.success else uniform
-        candidate = _unit(np.maximum(raw, cfg.floor))
+        candidate = unit(np.maximum(raw, cfg.floor))
         if cfg.init == "inverse-kkt":
             return [candidate]
         ranked = sorted((candidate, uniform), key=lambda w: _error(fit, w))
         if _error(fit, ranked[0]) <= EXACT_FIT or _fits(problem, fit, ranked[0]):
             return ranked
-        more = [_unit(np.maximum(raw / max(raw.max(), 1e-300), MORE_STARTS))]
-        more += [_unit(np.where(np.arange(raw.size) == i, DOMINANT, 1.0)) for i in range(raw.size)]
-        return sorted(ranked + more, key=lambda w: _error(fit, w))
+        return sorted(ranked + further_starts(raw), key=lambda w: _error(fit, w))
 
 
 def _fits(problem: IOCProblem, fit: _Fit, w: np.ndarray) -> bool:
@@ -334,10 +322,6 @@ def _index_of(fit: _Fit, w: np.ndarray) -> int | None:
     return None
 
 
-def _unit(u: np.ndarray) -> np.ndarray:
-    return u / np.linalg.norm(u)
-
-
 def _gauss_newton(fit: _Fit, w0: np.ndarray, lam: float, scale: float) -> tuple[np.ndarray, bool, str]:
     """One least-squares fit of ``D(w) + lam * scale * sum(w)`` from ``w0`` over ``u >= floor``."""
     cfg = fit.cfg
@@ -346,7 +330,7 @@ def _gauss_newton(fit: _Fit, w0: np.ndarray, lam: float, scale: float) -> tuple[
         return w0, True, "the start reproduces the observation to the solves' precision"
 
     def residuals(u: np.ndarray) -> np.ndarray:
-        w = _unit(u)
+        w = unit(u)
         r, _ = fit.solve(w)
         extra = [np.sqrt(lam * scale * w.sum())] if lam > 0 else []
         return np.concatenate([r, extra, [np.linalg.norm(u) - 1.0]])  # the last fixes the scale of u
@@ -373,7 +357,7 @@ def _gauss_newton(fit: _Fit, w0: np.ndarray, lam: float, scale: float) -> tuple[
         max_nfev=cfg.max_iterations,
         x_scale="jac",
     )
-    return _unit(res.x), bool(res.success), str(res.message)
+    return unit(res.x), bool(res.success), str(res.message)
 
 
 def _gauss_newton_path(problem: IOCProblem, fit: _Fit, w0: np.ndarray) -> tuple[np.ndarray, str, str, list]:
