@@ -222,24 +222,7 @@ def split_tracks(results: Sequence[Record]) -> tuple[list[CaseResult], list[Reco
 def _human_section(records: Sequence[Record]) -> list[str]:
     from ioc_bench.human.summary import markdown as human_markdown
 
-    return [
-        "## Human track",
-        "",
-        "**Method.** A cost is inferred from a person's treadmill steps (WBDS: the leg segments' angles and "
-        "rates of the mean step, mapped to the subject's own walker) at the training speed(s), and the walker's "
-        "optimal steps for it are scored at the person's other speeds: leg-segment RMSE in degrees. Beside each "
-        "prediction: the *nominal* weights (all equal), the *copy* baseline (the person's own step at the "
-        "nearest training speed, unchanged), and the *adaptation* error (the predicted change of step between "
-        "the training speed and this one against the person's change; the copy's is the person's change "
-        "itself). *Beat nominal* and *beat copy* count predictions with a lower RMSE; a failed solve is "
-        "neither. The *median skill* is (nominal - method) / (nominal - floor) against the run's floor, the "
-        "lowest RMSE any weights reached at that subject and speed in the run. *Ground force*: RMSE (body "
-        "weights) of the walker's stance-foot force against the person's two feet. Designs: one training speed, "
-        "two, all but one (*leave one out*), and *population* (fitted on the other subjects, no copy of the "
-        "person possible). Times are the IOC's plus the forward solves'. See `docs/human.md`.",
-        "",
-        human_markdown(records).rstrip("\n"),
-    ]
+    return [human_markdown(records).rstrip("\n")]
 
 
 def _synthetic_sections(results: Sequence[CaseResult]) -> list[str]:

@@ -49,6 +49,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--floor", help=floor_help)
     model_help = "gait model the person's steps are mapped to (default walker; rolling-feet: rolling feet, free knee)"
     p.add_argument("--model", default="walker", help=model_help)  # checked by the case: one line, exit 2
+    task_help = "what the walker is told: speed (step length free; default) or speed-and-step (the person's too)"
+    p.add_argument("--task", default="speed", help=task_help)  # checked by the case
     p.add_argument("--suite", help=argparse.SUPPRESS)
     p.add_argument("--data", type=path_arg, help="a folder of the WBDS ASCII layout (default: the shipped subset)")
     p.add_argument("--out", type=path_arg, help="results folder for the case and its figure (default: write nothing)")
@@ -90,7 +92,7 @@ def _spec(args: argparse.Namespace):
     with usage_errors():
         spec = HumanCaseSpec(
             args.subject, train[0], tuple(predict), args.algorithm, config=args.config, also_train=tuple(train[1:]),
-            population=population, model=args.model, data=data, **options,
+            population=population, model=args.model, task=args.task, data=data, **options,
         )  # fmt: skip
         make_algorithm(spec.algorithm, **spec.config)  # the name and every config field
         spec.steps()  # every file the case reads, checked before any solve
@@ -104,7 +106,7 @@ def _print(record) -> None:
     train = "+".join([record.train, *record.also_train])
     source = f" fitted on {'+'.join(record.population)}" if record.population else ""
     model = "" if record.model == "walker" else f" ({record.model})"
-    print(f"{record.algorithm} on {record.subject} {train}{source}{model}: {record.status}{reason}")
+    print(f"{record.algorithm} on {record.subject} {train}{source}{model}, task {record.task}: {record.status}{reason}")
     print(f"  weights ({', '.join(record.features)}) = [{w}]  in {record.wall_time:.1f} s, {record.n_solves} solves")
     for code, s in sorted(record.scores.items(), key=lambda item: (item[1].role != "fit", item[0])):
         copy = f"  copy {_f(s.copy_rmse_deg)} ({s.copy_from})  adaptation {_f(s.adaptation_deg)} (copy's "
@@ -114,6 +116,21 @@ def _print(record) -> None:
             f"  {s.role:10s} {code}: {_f(s.rmse_deg)} deg  nominal {_f(s.nominal_rmse_deg)}  "
             f"floor {_f(s.floor_rmse_deg)} ({s.floor_weights})  skill {_f(s.skill, 2)}{copy}{status}"
         )
+        print(f"             step length {_f(s.step_length_walker, 3)} L (person {_f(s.step_length, 3)}){_change(s)}")
+
+
+def _change(s) -> str:
+    """The change a prediction carried from another speed predicts, against the baselines'."""
+    if not s.continued_from:
+        return ""
+    family = ", changed family" if s.family_changed else ""
+    pop = s.population_adaptation_deg
+    population = f", population {_f(pop)}" if pop == pop else ""  # NaN: no population baseline
+    return (
+        f"\n             from {s.continued_from}: change R^2 {_f(s.change_r2, 2)}, change error "
+        f"{_f(s.adaptation_deg)} deg (copy {_f(s.copy_adaptation_deg)}{population}){family}; "
+        f"the cheapest cold start here {_f(s.cold_rmse_deg)} deg"
+    )
 
 
 def _f(value, digits: int = 1) -> str:

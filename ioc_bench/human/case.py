@@ -15,6 +15,16 @@ speeds, one predicted), and a population design (``population``: the cost is fit
 those other subjects' steps at the training speeds, and every speed of this subject is
 predicted).
 
+Tasks: what the walker is told at each speed (``task``). ``speed``: the belt speed only, the
+step length and duration free, as on the synthetic track, so the step length and cadence
+the cost predicts are scored; ``speed-and-step``: the person's measured step length too
+(the walker's step length and cadence are then the person's by construction).
+
+Predictions: the estimate's optimum at the nearest training speed (the cheapest of
+``starts`` cold starts) carried to the predicted speed by continuation, so the change it
+predicts is the cost's and not a switch between families of optima; the cheapest of cold
+starts at the predicted speed is reported beside it (:mod:`ioc_bench.human.scoring`).
+
 Models: a case maps the person's steps to one gait model (``model``: the paper's walker by
 default, or another of :data:`HUMAN_MODELS`, on the subject's own body,
 :mod:`ioc_bench.human.models`), and every step of it uses that model: the observation, the
@@ -30,7 +40,7 @@ import json
 import math
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -41,19 +51,23 @@ from ioc_bench.cache import cache_dir
 from ioc_bench.checks import check_count, check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_json
+from ioc_bench.human import baselines
 from ioc_bench.human.models import HUMAN_MODELS as HUMAN_MODELS  # the case's models, named here too
 from ioc_bench.human.models import check_human_model, subject_params
 from ioc_bench.human.observe import human_observation
-from ioc_bench.human.record import TRACK, HumanResult, SpeedScore, design_of
+from ioc_bench.human.record import GIVEN_STEP, TASKS, TRACK, HumanResult, SpeedScore, design_of
 from ioc_bench.human.scoring import (
     NOMINAL,
     SolvedStep,
     adaptation_deg,
     beats,
+    continue_step,
     ground_force_error,
     nearest,
     rmse_deg,
+    same_family,
     skill_score,
+    solve_demo,
     solve_step,
 )
 from ioc_bench.human.step import HumanStep, human_step
@@ -64,6 +78,7 @@ from ioc_bench.ioc.registry import canonical_config, check_algorithm_name, check
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.paths import read_bytes
+from ioc_bench.task import Task
 from ioc_bench.weights import parse_weights
 
 #: Weight directions also solved at every speed for the floor: the simplex lattice point
@@ -74,7 +89,10 @@ DEFAULT_STARTS = 3
 #: Most starts a case may ask for.
 MAX_STARTS = 50
 #: Revision of the reference steps' cache entries (bump when their solve changes).
-REFERENCE_REVISION = 1
+REFERENCE_REVISION = 2
+#: The subjects whose change between two speeds is the population baseline's (every subject
+#: but the case's own): the shipped ones, for subjects read from any folder.
+POPULATION_BASELINE: tuple[str, ...] = ("WBDS01", "WBDS02", "WBDS03")
 
 
 @dataclass(frozen=True)
@@ -94,6 +112,9 @@ class HumanCaseSpec:
         population: other subjects whose steps at the training speeds are fitted instead
             of this subject's (then every speed of this subject is predicted).
         model: the gait model the person's steps are mapped to.
+        task: what the walker is told at each speed: ``speed`` (step length free) or
+            ``speed-and-step`` (the person's step length too; the default, which every
+            record without a task holds).
         data: the WBDS folder (None: the shipped subset). Where the data lie, not what
             the case is: not part of its identity.
     """
@@ -109,6 +130,7 @@ class HumanCaseSpec:
     also_train: tuple[str, ...] = ()
     population: tuple[str, ...] = ()
     model: str = "walker"
+    task: str = GIVEN_STEP
     data: str | None = field(default=None, compare=False)
 
     track = TRACK
@@ -134,6 +156,8 @@ class HumanCaseSpec:
         if both and not self.population:
             raise ValueError(f"the training speed {both[0]} is also a predicted speed")
         check_human_model(self.model)
+        if self.task not in TASKS:
+            raise ValueError(f"unknown task {self.task!r}; a human case's task is one of {', '.join(TASKS)}")
         check_algorithm_name(self.algorithm)
         object.__setattr__(self, "seed", check_seed(self.seed))
         object.__setattr__(self, "starts", check_count(self.starts, "starts", maximum=MAX_STARTS))
@@ -186,10 +210,16 @@ class HumanCaseSpec:
         name += f"__predict-{'-'.join(self.predict) or 'none'}__seed{self.seed}"
         if self.model != "walker":
             name += f"__model-{self.model}"
+        if self.task != GIVEN_STEP:
+            name += f"__task-{self.task}"
         options = {"config": dict(self.config), "starts": self.starts, "floor": list(self.floor_weights)}
         if options != {"config": {}, "starts": DEFAULT_STARTS, "floor": list(FLOOR_WEIGHTS)}:
             name += "__cfg" + hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:8]
         return f"{self.algorithm}/{name}"
+
+    def task_of(self, step: HumanStep) -> Task:
+        """The walker's task at ``step``'s speed: its speed, and with ``speed-and-step`` its length."""
+        return step.task if self.task == GIVEN_STEP else Task(step.task.speed)
 
     def path(self, root: str | Path) -> Path:
         return Path(root) / f"{self.key}.json"
@@ -204,7 +234,7 @@ class HumanCaseSpec:
         shares them."""
         steps = self.steps()
         return [
-            ReferenceStep(label, steps[code], self.starts, self.seed, self.model)
+            ReferenceStep(label, steps[code], self.starts, self.seed, self.model, self.task_of(steps[code]))
             for code in steps
             for label in self.labels
         ]
@@ -239,7 +269,7 @@ class HumanCaseSpec:
         """The IOC problem of one training step on ``model`` (the subject's body on it)."""
         observed = human_observation(step, model=model)
         params = subject_params(step.params, model)
-        return IOCProblem(observed, self.features, params, step.task, seed=self.seed, model=model)
+        return IOCProblem(observed, self.features, params, self.task_of(step), seed=self.seed, model=model)
 
     def run(self, inputs: Mapping[Any, Any]) -> HumanResult:
         """Run and score the case (in a worker): ``inputs`` maps :meth:`needs` to their steps."""
@@ -251,17 +281,37 @@ class HumanCaseSpec:
         t0 = time.perf_counter()
         weights = _unit(outcome.result.weights)
         steps = self.steps()
-        estimate = {
-            code: solve_step(weights, steps[code], self.starts, self.seed, "estimate", model) for code in self.scored
-        }
+        cold, demos = {}, {}
+        for code in dict.fromkeys((*self.scored, *self.sources().values())):
+            task = self.task_of(steps[code])
+            cold[code], demos[code] = solve_demo(weights, steps[code], self.starts, self.seed, "estimate", model, task)
+        estimate = dict(cold)
+        for code, source in self.sources().items():
+            if code != source and cold[source].success:
+                estimate[code] = continue_step(demos[source], self.task_of(steps[code]), "estimate", model)
+            elif code != source:
+                status = f"no start: the step at {source} failed ({cold[source].status})"
+                estimate[code] = SolvedStep("estimate", status, False, math.nan, None, None, 0.0)
         refs = {code: {} for code in steps}
         for request in self.needs():
             refs[request.step.speed_code][request.label] = inputs[request]
-        scores = {
-            code: score_speed(code, self.role(code), self._copy_source(code, steps), steps, estimate, refs)
-            for code in self.scored
-        }
+        context = baseline_context(self.subject, [] if self.population else self.training_steps())
+        scores = {}
+        for code in self.scored:
+            source = self.sources().get(code, "")
+            score = score_speed(code, self.role(code), self._copy_source(code, steps), steps, estimate, refs)
+            extra = prediction_scores(code, source, steps, estimate, cold, context, own=not self.population)
+            scores[code] = replace(score, **extra)
         return self._record(outcome, scores, time.perf_counter() - t0)
+
+    def sources(self) -> dict[str, str]:
+        """Per predicted speed, the speed its step is carried from: the nearest training speed
+        (for a population design, this subject's step there, itself predicted cold)."""
+        steps = self.steps()
+        if self.population:
+            start = nearest([steps[c] for c in self.predict], steps[self.train]).speed_code
+            return {code: start for code in self.predict}
+        return {code: nearest([steps[c] for c in self.training], steps[code]).speed_code for code in self.predict}
 
     def failure(self, reason: str, config: Mapping[str, Any] | None = None) -> HumanResult:
         """The record of a case that could not run (it timed out, its worker died)."""
@@ -350,6 +400,86 @@ def score_speed(
     )  # fmt: skip
 
 
+def baseline_context(subject: str, training: Sequence[HumanStep]) -> dict[str, Any]:
+    """What the model-free baselines of ``subject``'s predictions need: the population's steps
+    (every subject of :data:`POPULATION_BASELINE` but this one, shipped data, at every speed),
+    the population's step-length exponent over them, and this subject's ``training`` steps
+    (none for a population design)."""
+    shipped = WbdsData()
+    others = [s for s in POPULATION_BASELINE if s != subject]
+    population = {(o, c): human_step(shipped.trial(o, c)) for o in others for c in shipped.speeds(o)}
+    exponent = baselines.power_law_exponent(list(population.values())) if population else math.nan
+    return {"population": population, "others": others, "exponent": exponent, "training": list(training)}
+
+
+def prediction_scores(
+    code: str,
+    source: str,
+    steps: Mapping[str, HumanStep],
+    estimate: Mapping[str, SolvedStep],
+    cold: Mapping[str, SolvedStep],
+    context: Mapping[str, Any],
+    own: bool,
+) -> dict[str, Any]:
+    """The scores of the step at ``code`` beyond its RMSEs: its step length, and for a step
+    carried from ``source``, the change it predicts against the person's, the cheapest of cold
+    starts there and the families; when the source is a step the cost was fitted on (``own``),
+    the model-free baselines from it."""
+    person, mine = steps[code], estimate[code]
+    out: dict[str, Any] = {
+        "step_length_walker": mine.step_length,
+        "step_length_error": baselines.log_error(mine.step_length, person.task.step_length),
+        "knee_at_strike_deg": mine.knee_at_strike_deg,
+    }
+    if not source or source == code:
+        return out
+    there, walker_there = steps[source], cold[source]
+    change = person.angles - there.angles
+    walker_change = None if mine.angles is None or walker_there.angles is None else mine.angles - walker_there.angles
+    walker_ratio = mine.step_length / walker_there.step_length
+    out |= {
+        "continued_from": source,
+        "continuation_solves": mine.solves,
+        "change_r2": baselines.change_r2(walker_change, change),
+        "step_length_change_error": baselines.log_error(there.task.step_length * walker_ratio, person.task.step_length),
+        "family_changed": _negated(same_family(mine, walker_there)),
+        "cold_rmse_deg": cold[code].rmse_deg(person),
+        "cold_adaptation_deg": adaptation_deg(cold[code], walker_there, person, there),
+        "cold_step_length": cold[code].step_length,
+        "cold_same_family": same_family(mine, cold[code]),
+    }
+    if not own:
+        return out
+    out["copy_step_length_error"] = baselines.log_error(there.task.step_length, person.task.step_length)
+    return out | _baseline_scores(person, there, context)
+
+
+def _baseline_scores(person: HumanStep, there: HumanStep, context: Mapping[str, Any]) -> dict[str, Any]:
+    """The model-free predictions of ``person`` from ``there``: the population's mean change,
+    interpolation between training speeds, the population's power law of step length."""
+    pop = context["population"]
+    pairs = [(pop[o, there.speed_code], pop[o, person.speed_code]) for o in context["others"]
+             if (o, there.speed_code) in pop and (o, person.speed_code) in pop]  # fmt: skip
+    out: dict[str, Any] = {}
+    mean_change = baselines.population_change(pairs)
+    if mean_change is not None:
+        out["population_rmse_deg"] = rmse_deg(there.angles + mean_change, person.angles)
+        out["population_adaptation_deg"] = rmse_deg(mean_change, person.angles - there.angles)
+    if math.isfinite(context["exponent"]):
+        length = baselines.power_law_step_length(there, person.task.speed, context["exponent"])
+        out["power_law_step_length_error"] = baselines.log_error(length, person.task.step_length)
+    between = baselines.interpolate(context["training"], person.task.speed)
+    if between is not None:
+        out["interpolation_rmse_deg"] = rmse_deg(between.angles, person.angles)
+        out["interpolation_adaptation_deg"] = rmse_deg(between.angles - there.angles, person.angles - there.angles)
+        out["interpolation_step_length_error"] = baselines.log_error(between.step_length, person.task.step_length)
+    return out
+
+
+def _negated(value: bool | None) -> bool | None:
+    return None if value is None else not value
+
+
 @dataclass(frozen=True, eq=False)
 class ReferenceStep:
     """A reference step to prepare: named weights (``nominal`` or a direction) solved at one
@@ -364,6 +494,12 @@ class ReferenceStep:
     starts: int
     seed: int
     model: str = "walker"
+    task: Task | None = None
+
+    @property
+    def walker_task(self) -> Task:
+        """The task solved: :attr:`task`, or the step's own."""
+        return self.task or self.step.task
 
     @cached_property
     def key(self) -> str:
@@ -371,7 +507,7 @@ class ReferenceStep:
         payload = {
             "label": self.label,
             "params": subject_params(self.step.params, model).to_dict(),
-            "task": self.step.task.to_dict(),
+            "task": self.walker_task.to_dict(),
             "knots": self.step.n_knots,
             "starts": self.starts,
             "seed": self.seed,
@@ -394,7 +530,7 @@ class ReferenceStep:
         if stored is not None:
             return stored
         model = get_model(self.model)
-        solved = solve_step(self.label, self.step, self.starts, self.seed, self.label, model)  # a set name or numbers
+        solved = solve_step(self.label, self.step, self.starts, self.seed, self.label, model, self.walker_task)
         with contextlib.suppress(OSError, ValueError):  # a reference that cannot be kept is only solved again
             atomic_write_json(path, {"key": self.key, "step": solved.to_dict()})
         return solved

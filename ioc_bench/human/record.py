@@ -23,6 +23,9 @@ from ioc_bench.human.scoring import SKILL_TOL, beats, skill_score
 
 #: The track's name, as result files record it.
 TRACK = "human"
+#: The tasks a human case gives the walker: the speed only, or the person's step length too.
+SPEED_ONLY, GIVEN_STEP = "speed", "speed-and-step"
+TASKS: tuple[str, ...] = (SPEED_ONLY, GIVEN_STEP)
 #: How far a stored derived number may be from what it derives from (float round-trips).
 DERIVED_TOLERANCE = 1e-9
 
@@ -34,8 +37,9 @@ class SpeedScore:
     Attributes:
         speed_code: the trial's speed code (``T0n``).
         role: ``fit`` (a training speed) or ``prediction``.
-        speed, step_length: the trial's task, walker units (the task fixes both, so the
-            walker's step length and cadence are the person's by construction).
+        speed, step_length: the person's speed and step length, walker units (with the
+            ``speed-and-step`` task the walker is given both, so its step length and cadence
+            are the person's by construction).
         status: IPOPT's status of the estimate's step.
         objective: its weighted cost.
         rmse_deg: leg-segment RMSE of the estimate's step against the person's (NaN if failed).
@@ -58,6 +62,32 @@ class SpeedScore:
         solve_time: seconds of the estimate's solves here.
         references: label -> ``{"status", "objective", "rmse_deg"}`` of each reference step.
         angles: ``estimate`` and ``nominal`` -> (T, 4) leg angles (rad), for the case figure.
+
+    The estimate's step and what it predicts (NaN, or None, where it does not apply):
+
+    Attributes:
+        step_length_walker: the estimate's step length, leg lengths.
+        step_length_error: ``|log|`` of its ratio to the person's (at a given speed, the
+            cadence's error is the same number).
+        knee_at_strike_deg: the estimate's stance knee flexion at heel strike (its family).
+        continued_from: the speed whose optimum was carried here by continuation ("" for a
+            fit, or for the speed a population design's predictions are carried from).
+        continuation_solves: the warm solves it took.
+        change_r2: 1 - |walker's change - person's change|^2 / |person's change|^2 of the leg
+            angles from ``continued_from`` (copy: 0).
+        step_length_change_error: ``|log|`` error of the person's step length at
+            ``continued_from`` scaled by the walker's ratio of step lengths.
+        family_changed: the prediction left the family of the step it was carried from.
+        cold_rmse_deg, cold_adaptation_deg, cold_step_length: the cheapest optimum of cold
+            starts here, scored as the estimate is.
+        cold_same_family: it lands on the prediction's family.
+        copy_step_length_error: the copy's step-length error (the person's at ``continued_from``).
+        power_law_step_length_error: the population power law's (``L ~ v^b`` from the
+            person's step length at ``continued_from``).
+        population_rmse_deg, population_adaptation_deg: the person's step at
+            ``continued_from`` plus the population's mean change between the two speeds.
+        interpolation_rmse_deg, interpolation_adaptation_deg, interpolation_step_length_error:
+            linear interpolation in speed between the training speeds either side.
     """
 
     speed_code: str
@@ -83,6 +113,25 @@ class SpeedScore:
     solve_time: float
     references: dict[str, dict[str, Any]] = field(default_factory=dict)
     angles: dict[str, list[list[float]] | None] = field(default_factory=dict)
+    step_length_walker: float = math.nan
+    step_length_error: float = math.nan
+    knee_at_strike_deg: float = math.nan
+    continued_from: str = ""
+    continuation_solves: int = 0
+    change_r2: float = math.nan
+    step_length_change_error: float = math.nan
+    family_changed: bool | None = None
+    cold_rmse_deg: float = math.nan
+    cold_adaptation_deg: float = math.nan
+    cold_step_length: float = math.nan
+    cold_same_family: bool | None = None
+    copy_step_length_error: float = math.nan
+    power_law_step_length_error: float = math.nan
+    population_rmse_deg: float = math.nan
+    population_adaptation_deg: float = math.nan
+    interpolation_rmse_deg: float = math.nan
+    interpolation_adaptation_deg: float = math.nan
+    interpolation_step_length_error: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -117,6 +166,7 @@ class HumanResult:
     scores: dict[str, SpeedScore]
     notes: dict[str, Any] = field(default_factory=dict)
     oracle: dict[str, Any] = field(default_factory=dict)
+    task: str = GIVEN_STEP
     track: str = TRACK
     version: str = __version__
 
@@ -244,6 +294,26 @@ def _check_score(s: SpeedScore) -> None:
         raise ValueError(f"{where}: a copy baseline and an adaptation error need copy_from")
     _same(f"{where}.beats_copy", s.beats_copy, beats(s.rmse_deg, copy))
     _same(f"{where}.copy_adaptation_deg", s.copy_adaptation_deg, copy)  # both are the person's change
+    for name in _PREDICTION_ERRORS:
+        _non_negative(f"{where}.{name}", getattr(s, name))
+    if s.continued_from and s.continued_from == s.copy_from:
+        _same(f"{where}.change_r2", s.change_r2, _r2(s.adaptation_deg, s.copy_adaptation_deg))
+
+
+#: The prediction's errors and baselines (non-negative, or NaN where they do not apply).
+_PREDICTION_ERRORS = (
+    "step_length_walker", "step_length_error", "step_length_change_error", "cold_rmse_deg", "cold_adaptation_deg",
+    "cold_step_length", "copy_step_length_error", "power_law_step_length_error", "population_rmse_deg",
+    "population_adaptation_deg", "interpolation_rmse_deg", "interpolation_adaptation_deg",
+    "interpolation_step_length_error",
+)  # fmt: skip
+
+
+def _r2(error_deg: float, change_deg: float) -> float:
+    """The R^2 of a change from its RMSE and the RMSE of the change itself (same knots)."""
+    if not (math.isfinite(error_deg) and math.isfinite(change_deg)) or change_deg == 0:
+        return math.nan
+    return 1.0 - (error_deg / change_deg) ** 2
 
 
 def _skill(s: SpeedScore) -> float:

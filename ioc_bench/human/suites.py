@@ -2,8 +2,9 @@
 
 A :class:`HumanSuite` gives the cases of one algorithm, as the synthetic suites do, so
 ``ioc-bench run --suite human --algorithm A`` runs it like any suite. A suite names the gait
-model its cases map the person's steps to (the walker unless it says otherwise); ``--model``
-runs any human suite on another model human steps map to.
+model its cases map the person's steps to (the walker unless it says otherwise; ``--model``
+runs any human suite on another model human steps map to) and the task its walker is given
+(the speed only, unless it says the person's step length too).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from ioc_bench.human.case import HumanCaseSpec
+from ioc_bench.human.record import GIVEN_STEP, SPEED_ONLY
 
 #: The shipped subjects and treadmill speeds.
 SHIPPED_SUBJECTS: tuple[str, ...] = ("WBDS01", "WBDS02", "WBDS03")
@@ -63,6 +65,7 @@ class HumanSuite:
     subjects: tuple[str, ...]
     designs: tuple[Design, ...]
     model: str = "walker"
+    task: str = SPEED_ONLY
 
     @property
     def weight_sets(self) -> tuple[str, ...]:
@@ -74,7 +77,7 @@ class HumanSuite:
         """The suite's cases for ``algorithm`` (``ValueError`` for a bad name or config)."""
         cfg = dict(config or {})
         specs = [d.case(s, self.subjects, algorithm, cfg) for s in self.subjects for d in self.designs]
-        return [replace(spec, model=model or self.model, data=data) for spec in specs]
+        return [replace(spec, model=model or self.model, task=self.task, data=data) for spec in specs]
 
     def __len__(self) -> int:
         return len(self.subjects) * len(self.designs)
@@ -107,9 +110,17 @@ HUMAN_SUITES: dict[str, HumanSuite] = {
         HumanSuite(
             "human",
             "the human track: 3 shipped subjects x 9 training designs (each speed alone, two speeds, "
-            "leave one out, population)",
+            "leave one out, population), the walker given the speed only",
             SHIPPED_SUBJECTS,
             DESIGNS,
+        ),
+        HumanSuite(
+            "human-given-step",
+            "the human track's cases with the person's step length given at every speed as well as the speed "
+            "(the walker's step length and cadence are then the person's)",
+            SHIPPED_SUBJECTS,
+            DESIGNS,
+            task=GIVEN_STEP,
         ),
     )
 }

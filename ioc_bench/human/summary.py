@@ -5,11 +5,14 @@ Over a run's records (:class:`~ioc_bench.human.record.HumanResult`):
 - the **run floor** per (subject, speed): the lowest RMSE any weights reached there in any
   case of the run (every algorithm's estimate, trained there or elsewhere, the nominal, the
   floor directions); skills are taken against it, so a weak case floor never flatters;
-- per (algorithm, design): cases and failures; mean fit and prediction RMSE; the copy
-  baseline's mean RMSE over the same predictions; how many predictions beat the nominal
-  (a prediction worse than the nominal is a loss, whatever its skill) and how many beat
-  copying the person; the mean adaptation error against the copy's; the median skill;
-  the time spent;
+- per (algorithm, model, task, design): what the cost predicts of the change of gait with
+  speed (the pooled R^2 of the change of the leg angles, of the prediction carried by
+  continuation and of the cheapest of cold starts; how often the change beats copy and the
+  population's change; the median step-length error; the family changes), then the angles
+  (mean fit and prediction RMSE against the nominal's and the copy's, how many predictions
+  beat each, the median skill), the ground force and the time spent;
+- per (model, task, design): the model-free baselines over the same predictions (copy, the
+  population's mean change, interpolation, the power law of step length);
 - per (algorithm, subject): the spread of the weights inferred at each single training
   speed (the largest distance between two of them, and the range of each weight).
 
@@ -45,14 +48,17 @@ def run_floors(records: Sequence[HumanResult]) -> dict[tuple[str, str], float]:
 
 
 def summarize(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
-    """One row per (algorithm, model, design), by algorithm, then model (the walker first),
-    then one speed, two, ..., population; skills against the run floors of the row's model."""
-    floors = {m: run_floors([r for r in records if r.model == m]) for m in {r.model for r in records}}
-    groups: dict[tuple[str, str, str], list[HumanResult]] = {}
+    """One row per (algorithm, model, task, design), by algorithm, then model (the walker
+    first), task, then one speed, two, ..., population; skills against the run floors of the
+    row's model and task."""
+    groups: dict[tuple[str, str, str, str], list[HumanResult]] = {}
     for record in records:
-        groups.setdefault((record.algorithm, record.model, record.design), []).append(record)
-    order = sorted(groups, key=lambda key: (key[0], key[1] != "walker", key[1], _design_rank(groups[key][0])))
-    return [_row(*key, groups[key], floors[key[1]]) for key in order]
+        groups.setdefault((record.algorithm, record.model, record.task, record.design), []).append(record)
+    floors = {
+        (m, t): run_floors([r for r in records if (r.model, r.task) == (m, t)]) for _, m, t, _ in groups
+    }  # fmt: skip
+    order = sorted(groups, key=lambda key: (key[0], key[1] != "walker", key[1], key[2], _design_rank(groups[key][0])))
+    return [_row(*key, groups[key], floors[key[1], key[2]]) for key in order]
 
 
 def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
@@ -60,10 +66,12 @@ def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
     return (bool(record.population), len(record.also_train), -len(record.predict))
 
 
-def _row(algorithm: str, model: str, design: str, cases: Sequence[HumanResult], floors) -> dict[str, Any]:
+def _row(algorithm: str, model: str, task: str, design: str, cases: Sequence[HumanResult], floors) -> dict[str, Any]:
     fits = [s.rmse_deg for r in cases for s in r.fits()]
     preds = [(r, s) for r in cases for s in r.predictions()]
-    copied = [(r, s) for r, s in preds if s.copy_from]
+    scores = [s for _, s in preds]
+    copied = [s for s in scores if s.copy_from]
+    carried = [s for s in scores if s.continued_from]
     skills = [
         skill_score(s.rmse_deg, s.nominal_rmse_deg, floors.get((r.subject, s.speed_code), math.nan))
         if math.isfinite(s.rmse_deg)
@@ -73,78 +81,184 @@ def _row(algorithm: str, model: str, design: str, cases: Sequence[HumanResult], 
     return {
         "algorithm": algorithm,
         "model": model,
+        "task": task,
         "design": design,
         "cases": len(cases),
         "failed": sum(r.failed for r in cases),
         "predictions": len(preds),
-        "failed_solves": sum(not math.isfinite(s.rmse_deg) for _, s in preds),
+        "failed_solves": sum(not math.isfinite(s.rmse_deg) for s in scores),
         "fit_rmse_deg": _mean(fits),
-        "prediction_rmse_deg": _mean([s.rmse_deg for _, s in preds]),
-        "nominal_rmse_deg": _mean([s.nominal_rmse_deg for _, s in preds]),
-        "copy_rmse_deg": _mean([s.copy_rmse_deg for _, s in copied]),
-        "beat_nominal": sum(s.beats_nominal is True for _, s in preds),
+        "prediction_rmse_deg": _mean([s.rmse_deg for s in scores]),
+        "nominal_rmse_deg": _mean([s.nominal_rmse_deg for s in scores]),
+        "copy_rmse_deg": _mean([s.copy_rmse_deg for s in copied]),
+        "beat_nominal": sum(s.beats_nominal is True for s in scores),
         "with_copy": len(copied),
-        "beat_copy": sum(s.beats_copy is True for _, s in copied),
-        "adaptation_deg": _mean([s.adaptation_deg for _, s in copied]),
-        "copy_adaptation_deg": _mean([s.copy_adaptation_deg for _, s in copied]),
-        "adaptation_beat_copy": sum(_below(s.adaptation_deg, s.copy_adaptation_deg) for _, s in copied),
-        "ground_force_error": _mean([s.ground_force_error for _, s in preds]),
+        "beat_copy": sum(s.beats_copy is True for s in copied),
+        "adaptation_deg": _mean([s.adaptation_deg for s in copied]),
+        "copy_adaptation_deg": _mean([s.copy_adaptation_deg for s in copied]),
+        "adaptation_beat_copy": sum(_below(s.adaptation_deg, s.copy_adaptation_deg) for s in copied),
+        "change_r2": pooled_r2([(s.adaptation_deg, s.copy_adaptation_deg) for s in copied]),
+        "cold_change_r2": pooled_r2([(s.cold_adaptation_deg, s.copy_adaptation_deg) for s in copied]),
+        "change_beat_population": sum(_below(s.adaptation_deg, s.population_adaptation_deg) for s in copied),
+        "with_population": sum(math.isfinite(s.population_adaptation_deg) for s in copied),
+        "step_length_error": _median([s.step_length_error for s in scores]),
+        "step_length_change_error": _median([s.step_length_change_error for s in copied]),
+        "with_family": sum(s.family_changed is not None for s in carried),
+        "family_changes": sum(s.family_changed is True for s in carried),
+        "cold_other_family": sum(s.cold_same_family is False for s in carried),
+        "ground_force_error": _mean([s.ground_force_error for s in scores]),
         "median_skill_run_floor": _median(skills),
         "time_s": sum(r.wall_time + r.scoring_time for r in cases),
     }
 
 
+def baseline_rows(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
+    """The model-free baselines over each (model, task, design)'s predictions of a person's
+    own steps (those of one algorithm: every algorithm predicts the same speeds): copy, the
+    population's mean change, interpolation, and the power law of step length."""
+    first: dict[tuple[str, str, str], str] = {}
+    for r in records:
+        first.setdefault((r.model, r.task, r.design), r.algorithm)
+    rows = []
+    for (model, task, design), algorithm in first.items():
+        scores = [s for r in records if (r.algorithm, r.model, r.task, r.design) == (algorithm, model, task, design)
+                  for s in r.predictions() if s.copy_from]  # fmt: skip
+        if not scores:
+            continue
+        inter = [s for s in scores if math.isfinite(s.interpolation_adaptation_deg)]
+        rows.append({
+            "model": model, "task": task, "design": design, "predictions": len(scores),
+            "copy_rmse_deg": _mean([s.copy_rmse_deg for s in scores]),
+            "population_rmse_deg": _mean([s.population_rmse_deg for s in scores]),
+            "population_change_r2": pooled_r2([(s.population_adaptation_deg, s.copy_adaptation_deg) for s in scores]),
+            "population_beat_copy": sum(_below(s.population_rmse_deg, s.copy_rmse_deg) for s in scores),
+            "interpolated": len(inter),
+            "interpolation_rmse_deg": _mean([s.interpolation_rmse_deg for s in inter]),
+            "interpolation_change_r2": pooled_r2(
+                [(s.interpolation_adaptation_deg, s.copy_adaptation_deg) for s in inter]
+            ),
+            "copy_step_length_error": _median([s.copy_step_length_error for s in scores]),
+            "power_law_step_length_error": _median([s.power_law_step_length_error for s in scores]),
+        })  # fmt: skip
+    return sorted(rows, key=lambda row: (row["model"] != "walker", row["model"], row["task"]))
+
+
+def pooled_r2(pairs: Sequence[tuple[float, float]]) -> float:
+    """Pooled R^2 of the change over predictions given as (RMSE of the predicted change against
+    the person's, RMSE of the person's change), all over the same knots:
+    1 - sum error^2 / sum change^2 over the pairs whose two numbers are finite (NaN if none)."""
+    kept = [(e, c) for e, c in pairs if math.isfinite(e) and math.isfinite(c)]
+    total = sum(c * c for _, c in kept)
+    return 1.0 - sum(e * e for e, _ in kept) / total if kept and total > 0 else math.nan
+
+
 def weight_spread(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
-    """Per (algorithm, model, subject): the weights inferred at each single training speed,
-    the largest distance between two of them and each weight's range (needs two or more)."""
-    groups: dict[tuple[str, str, str], dict[str, tuple[float, ...]]] = {}
+    """Per (algorithm, model, task, subject): the weights inferred at each single training
+    speed, the largest distance between two of them and each weight's range (needs two or more)."""
+    groups: dict[tuple[str, str, str, str], dict[str, tuple[float, ...]]] = {}
     for r in records:
         if r.design == "one speed" and not r.failed:
-            groups.setdefault((r.algorithm, r.model, r.subject), {})[r.train] = r.weights
+            groups.setdefault((r.algorithm, r.model, r.task, r.subject), {})[r.train] = r.weights
     rows = []
-    for (algorithm, model, subject), by_speed in groups.items():
+    for (algorithm, model, task, subject), by_speed in groups.items():
         w = np.array(list(by_speed.values()))
         if len(w) < 2:
             continue
         distance = max(float(np.linalg.norm(a - b)) for a, b in combinations(w, 2))
         rows.append({
-            "algorithm": algorithm, "model": model, "subject": subject, "speeds": sorted(by_speed),
+            "algorithm": algorithm, "model": model, "task": task, "subject": subject, "speeds": sorted(by_speed),
             "largest_distance": distance,
             "ranges": [[float(lo), float(hi)] for lo, hi in zip(w.min(axis=0), w.max(axis=0))],
         })  # fmt: skip
     return rows
 
 
+#: What the human section of a board says of its method, before its tables.
+METHOD = (
+    "**Method.** A cost is inferred from a person's treadmill steps (WBDS: the leg segments' angles and rates "
+    "of the mean step, mapped to the subject's own walker) at the training speed(s); the walker's optimum for it "
+    "at the nearest training speed is carried to each other speed by continuation (warm, in steps of speed) and "
+    "scored against the person's step there. *Task*: `speed` gives the walker the belt speed only (its step "
+    "length and cadence are predictions); `speed-and-step` gives it the person's step length too. *Change R^2*: "
+    "1 - sum |walker's change - person's change|^2 / sum |person's change|^2 of the leg angles between the "
+    "training speed and the predicted one, pooled over the row's predictions: copying the person's training "
+    "step scores 0, so above 0 beats copy. *Step length*: median |log| error of the walker's step length "
+    "(at a given speed, the cadence's is the same), and of the person's step length at the training speed "
+    "scaled by the walker's ratio (*change*). *Family changes*: predictions whose stance knee at heel strike "
+    "moved more than 5 deg from the step they were carried from; *cold other family*: where the cheapest of "
+    "cold starts lands on another family than the prediction. The model-free baselines (copy, the population's "
+    "mean change between the two speeds from the other shipped subjects, interpolation in speed between two "
+    "training speeds, the population's power law of step length L ~ v^b) are in their own table over the same "
+    "predictions. RMSEs in degrees over the four leg segments; *nominal*: all weights equal. Designs: one "
+    "training speed, two, all but one (*leave one out*), and *population* (fitted on the other subjects). Times "
+    "are the IOC's plus the forward solves'. See `docs/human.md`."
+)
+
+
 def markdown(records: Sequence[HumanResult]) -> str:
-    """The human track's section of a leaderboard: the summary table and the weight spread."""
+    """The human track's section of a leaderboard: the change and step-length table, the
+    baselines', the angles' table and the weight spread."""
     rows = summarize(records)
-    features = next((r.features for r in records), ())
-    lines = [
-        "| algorithm | design | cases | failed | fit RMSE | prediction RMSE | nominal | copy | beat nominal | "
-        "beat copy | adaptation (copy) | adaptation beat copy | ground force (BW) | median skill | time (s) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for row in rows:
-        n, c = row["predictions"], row["with_copy"]
-        cells = [
-            _algorithm(row), row["design"], str(row["cases"]), _failures(row),
-            _cell(row["fit_rmse_deg"]), _cell(row["prediction_rmse_deg"]), _cell(row["nominal_rmse_deg"]),
-            _cell(row["copy_rmse_deg"]), f"{row['beat_nominal']}/{n}", f"{row['beat_copy']}/{c}" if c else "-",
-            f"{_cell(row['adaptation_deg'])} ({_cell(row['copy_adaptation_deg'])})" if c else "-",
-            f"{row['adaptation_beat_copy']}/{c}" if c else "-", _cell(row["ground_force_error"], 3),
-            _cell(row["median_skill_run_floor"], 2), _cell(row["time_s"], 0),
-        ]  # fmt: skip
-        lines.append("| " + " | ".join(cells) + " |")
-    spread = weight_spread(records)
-    if spread:
-        lines += ["", f"Weights inferred at each single training speed ({', '.join(features)}):", ""]
-        lines += ["| algorithm | subject | speeds | largest distance | range of each weight |", "|---|---|---|---|---|"]
-        for row in spread:
-            ranges = ", ".join(f"{lo:.2f}-{hi:.2f}" for lo, hi in row["ranges"])
-            speeds = ", ".join(row["speeds"])
-            line = f"| {_algorithm(row)} | {row['subject']} | {speeds} | {row['largest_distance']:.3f} | {ranges} |"
-            lines.append(line)
+    lines = ["## Human track", "", METHOD, "", "What each cost predicts of the change of gait with speed:", ""]
+    lines += _table(
+        ["algorithm", "task", "design", "cases", "failed", "change R^2 (cold)", "change beat copy",
+         "change beat population", "step length (change)", "family changes", "cold other family", "time (s)"],
+        [[_algorithm(r), r["task"], r["design"], str(r["cases"]), _failures(r),
+          f"{_cell(r['change_r2'])} ({_cell(r['cold_change_r2'])})", _count(r["adaptation_beat_copy"], r["with_copy"]),
+          _count(r["change_beat_population"], r["with_population"]),
+          f"{_cell(r['step_length_error'], 3)} ({_cell(r['step_length_change_error'], 3)})",
+          _count(r["family_changes"], r["with_family"]), _count(r["cold_other_family"], r["with_family"]),
+          _cell(r["time_s"], 0)] for r in rows],
+    )  # fmt: skip
+    base = baseline_rows(records)
+    if base:
+        lines += ["", "The model-free baselines over the same predictions:", ""]
+        lines += _table(
+            ["model", "task", "design", "predictions", "copy RMSE", "population RMSE (change R^2, beat copy)",
+             "interpolation RMSE (change R^2)", "step length: copy", "step length: power law"],
+            [[b["model"], b["task"], b["design"], str(b["predictions"]), _cell(b["copy_rmse_deg"]),
+              f"{_cell(b['population_rmse_deg'])} ({_cell(b['population_change_r2'])}, "
+              f"{_count(b['population_beat_copy'], b['predictions'])})",
+              _interpolation(b),
+              _cell(b["copy_step_length_error"], 3), _cell(b["power_law_step_length_error"], 3)] for b in base],
+        )  # fmt: skip
+    lines += ["", "The leg angles themselves:", ""]
+    lines += _table(
+        ["algorithm", "task", "design", "fit RMSE", "prediction RMSE", "nominal", "copy", "beat nominal", "beat copy",
+         "ground force (BW)", "median skill"],
+        [[_algorithm(r), r["task"], r["design"], _cell(r["fit_rmse_deg"]), _cell(r["prediction_rmse_deg"]),
+          _cell(r["nominal_rmse_deg"]), _cell(r["copy_rmse_deg"]), _count(r["beat_nominal"], r["predictions"]),
+          _count(r["beat_copy"], r["with_copy"]), _cell(r["ground_force_error"], 3),
+          _cell(r["median_skill_run_floor"], 2)] for r in rows],
+    )  # fmt: skip
+    lines += _spread_lines(records)
     return "\n".join(lines) + "\n"
+
+
+def _spread_lines(records: Sequence[HumanResult]) -> list[str]:
+    spread = weight_spread(records)
+    if not spread:
+        return []
+    features = next((r.features for r in records), ())
+    lines = ["", f"Weights inferred at each single training speed ({', '.join(features)}):", ""]
+    rows = [[_algorithm(row), row["task"], row["subject"], ", ".join(row["speeds"]), f"{row['largest_distance']:.3f}",
+             ", ".join(f"{lo:.2f}-{hi:.2f}" for lo, hi in row["ranges"])] for row in spread]  # fmt: skip
+    return lines + _table(["algorithm", "task", "subject", "speeds", "largest distance", "range of each weight"], rows)
+    return lines
+
+
+def _table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> list[str]:
+    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header), *("| " + " | ".join(r) + " |" for r in rows)]
+
+
+def _interpolation(row: Mapping[str, Any]) -> str:
+    if not row["interpolated"]:
+        return "-"
+    return f"{_cell(row['interpolation_rmse_deg'])} ({_cell(row['interpolation_change_r2'])})"
+
+
+def _count(n: int, of: int) -> str:
+    return f"{n}/{of}" if of else "-"
 
 
 def _algorithm(row: Mapping[str, Any]) -> str:

@@ -66,6 +66,7 @@ CASE = ("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T04")
         ((*CASE, "--model", "nope"), "unknown gait model 'nope'; human steps map to the models walker, rolling-feet"),
         ((*CASE, "--model", "compass"), "human steps map to the models walker, rolling-feet, not 'compass'"),
         (("run", "--suite", "human-smoke", "--algorithm", "bilevel", "--model", "compass"), "not 'compass'"),
+        ((*CASE, "--task", "nope"), "unknown task 'nope'; a human case's task is one of speed, speed-and-step"),
     ],
 )
 def test_bad_input_exits_2_with_one_line_before_any_solve(capsys, tmp_path, broken, monkeypatch, argv, message):
@@ -87,7 +88,7 @@ def test_bad_input_exits_2_with_one_line_before_any_solve(capsys, tmp_path, brok
 def test_run_lists_the_human_suites(capsys) -> None:
     assert main(["run", "--list", "--json"]) == 0
     suites = {s["name"]: s for s in json.loads(capsys.readouterr().out)["suites"]}
-    assert suites["human"]["cases"] == 27 and suites["human-smoke"]["cases"] == 1
+    assert suites["human"]["cases"] == 27 == suites["human-given-step"]["cases"] and suites["human-smoke"]["cases"] == 1
     assert suites["human-rolling-feet"]["cases"] == 1 and suites["human-rolling-feet"]["model"] == "rolling-feet"
 
 
@@ -103,8 +104,13 @@ def test_one_small_case_end_to_end_locked_and_resumed(capsys, tmp_path, monkeypa
     fit, pred = report["scores"]["T05"], report["scores"]["T04"]
     assert fit["role"] == "fit" and pred["role"] == "prediction" and pred["copy_from"] == "T05"
     assert pred["copy_rmse_deg"] > 0 and pred["copy_adaptation_deg"] == pred["copy_rmse_deg"]
+    # carried from T05 by continuation, its step length free, beside the cold start and the baselines
+    assert pred["continued_from"] == "T05" and pred["continuation_solves"] >= 3 and report["task"] == "speed"
+    assert pred["change_r2"] == pytest.approx(1 - (pred["adaptation_deg"] / pred["copy_adaptation_deg"]) ** 2)
+    assert pred["step_length_walker"] > 0 and pred["step_length_error"] >= 0 and pred["cold_rmse_deg"] > 0
+    assert pred["population_rmse_deg"] > 0 and pred["power_law_step_length_error"] >= 0
     written = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
-    key = "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__cfg"
+    key = "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__task-speed__cfg"
     assert len(written) == 2 and all(w.startswith(key) for w in written)
     assert {Path(w).suffix for w in written} == {".json", ".png"}
 
@@ -141,6 +147,6 @@ def test_one_small_rolling_feet_case_end_to_end(capsys, tmp_path) -> None:
     assert pred["role"] == "prediction" and pred["copy_from"] == "T05" and pred["rmse_deg"] > 0
     written = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
     assert [Path(w).suffix for w in written] == [".json", ".png"]
-    assert all("__model-rolling-feet__cfg" in w for w in written)
+    assert all("__model-rolling-feet__task-speed__cfg" in w for w in written)
     walker = HumanCaseSpec("WBDS01", "T05", ("T04",), "inverse-kkt", starts=1, floor_weights=())
     assert not (out / f"{walker.key}.json").exists()

@@ -16,7 +16,7 @@ from ioc_bench.human.observe import leg_angles
 from ioc_bench.human.record import parse_record
 from ioc_bench.human.scoring import NOMINAL, beats, skill_score, solve_step
 from ioc_bench.human.suites import HUMAN_SUITES, SHIPPED_SUBJECTS, SPEED_CODES
-from ioc_bench.human.summary import markdown, run_floors, summarize, weight_spread
+from ioc_bench.human.summary import markdown, pooled_r2, run_floors, summarize, weight_spread
 from ioc_bench.optimize import optimize_gait
 
 
@@ -54,6 +54,7 @@ def test_case_specs_refuse_bad_input() -> None:
         ({"population": ("WBDS02", "WBDS02")}, "population subject is repeated"),
         ({"model": "compass"}, "human steps map to"),
         ({"floor_weights": ("1,x,0",)}, "1,x,0"),
+        ({"task": "step"}, "unknown task 'step'"),
     ]
     for change, message in bad:
         fields = {"subject": "WBDS01", "train": "T05", "predict": ("T04",), "algorithm": "bilevel"} | change
@@ -89,11 +90,14 @@ def test_the_suites() -> None:
     for spec in human:
         assert set(spec.scored) | set(spec.training) == set(SPEED_CODES)
     assert [s.key for s in HUMAN_SUITES["human-smoke"].cases("inverse-kkt")] == [
-        "inverse-kkt/WBDS01__train-T05__predict-T04__seed0"
+        "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__task-speed"
     ]
     assert [s.key for s in HUMAN_SUITES["human-rolling-feet"].cases("inverse-kkt")] == [
-        "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__model-rolling-feet"
+        "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__model-rolling-feet__task-speed"
     ]
+    given = HUMAN_SUITES["human-given-step"].cases("bilevel")
+    assert {s.task for s in given} == {"speed-and-step"} and {s.task for s in human} == {"speed"}
+    assert [s.key for s in given] == [s.key.replace("__task-speed", "") for s in human]
     on_feet = HUMAN_SUITES["human-smoke"].cases("bilevel", model="rolling-feet")
     assert [s.model for s in on_feet] == ["rolling-feet"]
     with pytest.raises(ValueError, match="human steps map to"):
@@ -193,6 +197,9 @@ def test_a_record_read_back_is_checked_for_consistency() -> None:
         (lambda d: d["scores"].pop("T05"), "the case's speeds"),
         (lambda d: d.update(subject="WBDS99"), None),
         (lambda d: d.update(track="synthetic"), "track"),
+        (lambda d: d["scores"]["T04"].update(continued_from="T05", change_r2=0.5), "change_r2 is 0.5"),
+        (lambda d: d["scores"]["T04"].update(step_length_error=-0.1), "step_length_error must be a non-negative"),
+        (lambda d: d.update(task="walk"), "unknown task 'walk'"),
     ]
     for edit, message in edits:
         spoilt = json.loads(json.dumps(data))
@@ -217,7 +224,7 @@ def test_the_run_summary_takes_its_floor_from_every_case_and_counts_losses() -> 
     assert rows["a"]["beat_copy"] == rows["b"]["beat_copy"] == 0 and rows["a"]["copy_rmse_deg"] == 3.0
     assert rows["a"]["fit_rmse_deg"] == 7.0 and rows["a"]["time_s"] == 3.0 and rows["a"]["design"] == "one speed"
     table = markdown([a, b])
-    assert "| a | one speed | 1 | 0 | 7.00 | 6.00 | 10.00 | 3.00 | 1/1 | 0/1 |" in table
+    assert "| a | speed-and-step | one speed | 7.00 | 6.00 | 10.00 | 3.00 | 1/1 | 0/1 |" in table
 
 
 def test_the_summary_keeps_each_models_records_apart() -> None:
@@ -230,8 +237,8 @@ def test_the_summary_keeps_each_models_records_apart() -> None:
     assert [r["median_skill_run_floor"] for r in rows] == [pytest.approx(1.0), pytest.approx(1.0)]
     assert [r["prediction_rmse_deg"] for r in rows] == [6.0, 4.0]
     table = markdown([walker, feet])
-    assert "| a | one speed | 1 | 0 | 7.00 | 6.00 |" in table
-    assert "| a (rolling-feet) | one speed | 1 | 0 | 5.00 | 4.00 |" in table
+    assert "| a | speed-and-step | one speed | 7.00 | 6.00 |" in table
+    assert "| a (rolling-feet) | speed-and-step | one speed | 5.00 | 4.00 |" in table
 
 
 def test_the_summary_orders_rows_by_algorithm_then_design_whatever_order_the_files_came_in() -> None:
@@ -247,6 +254,19 @@ def test_the_summary_orders_rows_by_algorithm_then_design_whatever_order_the_fil
         ("a", "one speed"),
         ("a", "two speeds"),
     ]
+
+
+def test_the_change_is_pooled_over_predictions_by_its_squares() -> None:
+    """Two predictions whose person's change is 1 and 3 deg, predicted with errors of 1 and
+    0 deg: 1 - (1 + 0) / (1 + 9) = 0.9 (the mean of the two R^2s, 0 and 1, would be 0.5)."""
+    assert pooled_r2([(1.0, 1.0), (0.0, 3.0)]) == pytest.approx(0.9)
+    assert pooled_r2([(3.0, 3.0), (1.0, 1.0)]) == 0.0  # copying: the error is the change itself
+    assert math.isnan(pooled_r2([(math.nan, 1.0)])) and math.isnan(pooled_r2([]))
+    case = HumanCaseSpec("WBDS01", "T05", ("T04",), "a")
+    record = _record(case, {"T05": 7.0, "T04": 6.0})  # adaptation 4 deg, the person's change 3
+    (row,) = summarize([record])
+    assert row["change_r2"] == pytest.approx(1 - 16 / 9) and row["adaptation_beat_copy"] == 0
+    assert "| a | speed-and-step | one speed | 1 | 0 | -0.78 (-) | 0/1 |" in markdown([record])
 
 
 def test_the_weight_spread_over_single_speed_training() -> None:
