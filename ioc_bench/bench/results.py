@@ -45,7 +45,7 @@ from ioc_bench.processes import hold_across_fork
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``; human cases join speeds and subjects by ``+``).
 RESULT_NAME = re.compile(
-    r"[A-Za-z0-9._+-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__cfg[0-9a-f]{8})?\.json"
+    r"[A-Za-z0-9._+-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__task-[a-z-]+)?(__cfg[0-9a-f]{8})?\.json"
 )
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}

@@ -188,7 +188,11 @@ class HumanResult:
         wins = sum(s.beats_nominal is True for s in preds)
         copies = [s for s in preds if s.copy_from]
         copy = f", copy {_mean([s.copy_rmse_deg for s in copies]):.1f} deg" if copies else ""
-        return f"predictions {mean:.1f} deg (beat nominal {wins}/{len(preds)}{copy})"
+        errors = [s.adaptation_deg for s in preds if s.continued_from]
+        change = f"; change error {_mean(errors):.1f} deg" if errors else ""
+        lengths = _mean([s.step_length_error for s in preds])
+        length = f", step length error {lengths:.3f}" if self.task == SPEED_ONLY else ""
+        return f"predictions {mean:.1f} deg (beat nominal {wins}/{len(preds)}{copy}){change}{length}"
 
     def fits(self) -> list[SpeedScore]:
         return [s for s in self.scores.values() if s.role == "fit"]

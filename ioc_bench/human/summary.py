@@ -61,6 +61,15 @@ def summarize(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
     return [_row(*key, groups[key], floors[key[1], key[2]]) for key in order]
 
 
+#: The training designs in the order a board lists them (:func:`~ioc_bench.human.record.design_of`;
+#: ``N speeds`` with several predicted come before the population).
+DESIGNS = ("one speed", "two speeds", "leave one out", "population")
+
+
+def _design_order(design: str) -> float:
+    return DESIGNS.index(design) if design in DESIGNS else DESIGNS.index("population") - 0.5
+
+
 def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
     """Fewer training speeds first, then more predicted; the population design last."""
     return (bool(record.population), len(record.also_train), -len(record.predict))
@@ -140,7 +149,7 @@ def baseline_rows(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
             "copy_step_length_error": _median([s.copy_step_length_error for s in scores]),
             "power_law_step_length_error": _median([s.power_law_step_length_error for s in scores]),
         })  # fmt: skip
-    return sorted(rows, key=lambda row: (row["model"] != "walker", row["model"], row["task"]))
+    return sorted(rows, key=lambda r: (r["model"] != "walker", r["model"], r["task"], _design_order(r["design"])))
 
 
 def pooled_r2(pairs: Sequence[tuple[float, float]]) -> float:
@@ -254,7 +263,8 @@ def _table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> list[str]:
 def _interpolation(row: Mapping[str, Any]) -> str:
     if not row["interpolated"]:
         return "-"
-    return f"{_cell(row['interpolation_rmse_deg'])} ({_cell(row['interpolation_change_r2'])})"
+    r2, n = _cell(row["interpolation_change_r2"]), row["interpolated"]
+    return f"{_cell(row['interpolation_rmse_deg'])} ({r2}; {n} of {row['predictions']})"
 
 
 def _count(n: int, of: int) -> str:

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from ioc_bench.bench import runner
-from ioc_bench.bench.results import ResultFileError, results_directory
+from ioc_bench.bench.results import ResultFileError, results_directory, select_results
 from ioc_bench.cli import main
 from ioc_bench.human import shipped_folder
 from ioc_bench.human.case import HumanCaseSpec
@@ -113,6 +113,7 @@ def test_one_small_case_end_to_end_locked_and_resumed(capsys, tmp_path, monkeypa
     key = "inverse-kkt/WBDS01__train-T05__predict-T04__seed0__task-speed__cfg"
     assert len(written) == 2 and all(w.startswith(key) for w in written)
     assert {Path(w).suffix for w in written} == {".json", ".png"}
+    assert [r.subject for r in select_results(out)] == ["WBDS01"]  # the board finds it by its name
 
     def no_solve(*_args, **_kwargs):
         raise AssertionError("a finished case was run again")
