@@ -39,6 +39,13 @@ def test_carried_back_it_returns_to_the_optimum_it_left(start) -> None:
     assert back.demo.solver.objective == pytest.approx(start.solver.objective, rel=1e-4)
 
 
+def test_a_step_of_given_length_is_carried_in_speed_and_length_together() -> None:
+    fixed = optimize_gait("nominal", task=Task(0.27, 0.45), starts=1, seed=0, workers=1, verify=False, n_intervals=20)
+    end = continue_gait(fixed, Task(0.31, 0.5), verify=False)
+    assert fixed.solver.success and end.success
+    assert end.demo.task == Task(0.31, 0.5) and end.demo.gait.step_length == pytest.approx(0.5, rel=1e-6)
+
+
 def test_what_it_cannot_carry_is_refused(start) -> None:
     with pytest.raises(ValueError, match="fix the step length"):
         continue_gait(start, Task(0.3, step_length=0.5))

@@ -98,9 +98,9 @@ def _change_panel(record: HumanResult, score: SpeedScore, humans: Mapping[str, n
     if here is not None and there is not None:
         walkers[f"walker's change (R^2 {_num(score.change_r2)})"] = np.asarray(here) - np.asarray(there)
     left = ", left its family" if score.family_changed else ""
-    lengths = f"step length walker {_num(score.step_length_walker)} L, person {_num(score.step_length)} L{left}"
+    lengths = f"step {_num(score.step_length_walker)} L (person {_num(score.step_length)}){left}"
     return {
-        "title": f"{record.subject} {source} -> {score.speed_code} change\n{lengths}",
+        "title": f"{source}->{score.speed_code} change\n{lengths}",
         "human": human,
         "walkers": walkers,
         "ylabel": "change (deg)",

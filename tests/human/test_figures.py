@@ -71,7 +71,7 @@ def test_a_continued_prediction_adds_a_row_of_the_change_of_angles(tmp_path) -> 
     panels = case_panels(record, humans)
     assert len(panels) == 3 and [p.get("ylabel") for p in panels] == [None, None, "change (deg)"]
     change = panels[-1]
-    assert change["title"] == "WBDS01 T05 -> T04 change\nstep length walker 0.61 L, person 0.70 L"
+    assert change["title"] == "T05->T04 change\nstep 0.61 L (person 0.70)"
     np.testing.assert_allclose(change["human"], humans["T04"] - humans["T05"])
     assert list(change["walkers"]) == ["walker's change (R^2 0.42)"]
     np.testing.assert_allclose(change["walkers"]["walker's change (R^2 0.42)"], walker["T04"] - walker["T05"])
