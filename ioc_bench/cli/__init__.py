@@ -14,6 +14,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
+from ioc_bench._version import __version__
 from ioc_bench.cli.common import UsageError, fail, is_run_fault
 
 #: Subcommand modules, in the order ``--help`` lists them.
@@ -40,6 +41,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="ioc-bench", description="Inverse optimal control benchmark for bipedal walking.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
     for name in COMMANDS:  # a missing or broken command module is a bug: let it raise
         importlib.import_module(f"ioc_bench.cli.{name}").register(sub)

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 
 import pytest
 
+from ioc_bench import __version__
 from ioc_bench.cli import main
 
 
@@ -83,3 +86,15 @@ def test_solver_timing_is_its_own_command_and_a_missing_command_module_fails_lou
     monkeypatch.setattr(cli, "COMMANDS", (*cli.COMMANDS, "no_such_command_module"))
     with pytest.raises(ModuleNotFoundError, match="no_such_command_module"):
         cli.build_parser()
+
+
+def test_version_prints_the_package_version_and_exits_0(capsys):
+    code, out = _run(capsys, "--version")
+    assert code == 0
+    assert out.out == f"ioc-bench {__version__}\n" and out.err == ""
+
+
+def test_version_from_a_shell(tmp_path):
+    argv = [sys.executable, "-m", "ioc_bench.cli", "--version"]
+    proc = subprocess.run(argv, capture_output=True, text=True, cwd=tmp_path, check=False)
+    assert proc.returncode == 0 and proc.stdout == f"ioc-bench {__version__}\n"
