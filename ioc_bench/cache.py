@@ -1,4 +1,5 @@
-"""Where solved things are kept between runs: ``$IOC_BENCH_CACHE`` or ``~/.cache/ioc-bench``.
+"""Where solved things are kept between runs: ``$IOC_BENCH_CACHE``; else
+``$XDG_CACHE_HOME/ioc-bench`` when that is an absolute path; else ``~/.cache/ioc-bench``.
 
 Demonstrations, the references of observations and the human track's reference steps are
 solved once and kept here, each kind in its own folder, every entry written atomically and
@@ -12,13 +13,23 @@ from pathlib import Path
 
 from ioc_bench.paths import check_output_dir
 
+#: Where the cache is looked for, in order (for messages).
+WHERE = "IOC_BENCH_CACHE, else XDG_CACHE_HOME/ioc-bench, else ~/.cache/ioc-bench"
+
 
 def cache_dir() -> Path:
-    """``$IOC_BENCH_CACHE``, or ``~/.cache/ioc-bench``; ``ValueError`` if the variable is set but empty."""
+    """``$IOC_BENCH_CACHE``; else ``$XDG_CACHE_HOME/ioc-bench`` if that variable is an absolute
+    path (the XDG Base Directory specification ignores an empty or relative one); else
+    ``~/.cache/ioc-bench``. ``ValueError`` if ``IOC_BENCH_CACHE`` is set but empty."""
     value = os.environ.get("IOC_BENCH_CACHE")
     if value == "":
         raise ValueError("IOC_BENCH_CACHE is set but empty: unset it or name a folder for the demonstration cache")
-    return Path(value) if value is not None else Path.home() / ".cache" / "ioc-bench"
+    if value is not None:
+        return Path(value)
+    xdg = os.environ.get("XDG_CACHE_HOME", "")
+    if os.path.isabs(xdg):
+        return Path(xdg) / "ioc-bench"
+    return Path.home() / ".cache" / "ioc-bench"
 
 
 def check_cache() -> Path:
@@ -27,6 +38,4 @@ def check_cache() -> Path:
     try:
         return check_output_dir(cache_dir() / "demos")
     except ValueError as exc:
-        raise ValueError(
-            f"the demonstration cache (IOC_BENCH_CACHE or ~/.cache/ioc-bench) cannot be used: {exc}"
-        ) from None
+        raise ValueError(f"the demonstration cache ({WHERE}) cannot be used: {exc}") from None

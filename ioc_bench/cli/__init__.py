@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
 import sys
 from collections.abc import Sequence
 
+from ioc_bench._version import __version__
 from ioc_bench.cli.common import UsageError, fail, is_run_fault
 
 #: Subcommand modules, in the order ``--help`` lists them.
@@ -40,13 +42,46 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="ioc-bench", description="Inverse optimal control benchmark for bipedal walking.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
     for name in COMMANDS:  # a missing or broken command module is a bug: let it raise
         importlib.import_module(f"ioc_bench.cli.{name}").register(sub)
     return parser
 
 
+class _StderrHandler(logging.StreamHandler):
+    """A handler writing each record to ``sys.stderr`` as it is when the record comes."""
+
+    def __init__(self, level: int) -> None:
+        super().__init__()
+        self.setLevel(level)
+
+    @property
+    def stream(self):  # type: ignore[override]
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, _value) -> None:
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); its exit code.
+
+    While it runs, the package's log records of level WARNING and above are printed on
+    stderr, bare, as Python printed them before the package had a handler of its own.
+    """
+    handler = _StderrHandler(logging.WARNING)
+    handler.setFormatter(logging.Formatter("%(message)s"))
+    log = logging.getLogger("ioc_bench")
+    log.addHandler(handler)
+    try:
+        return _main(argv)
+    finally:
+        log.removeHandler(handler)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     command = "ioc-bench"
     try:
         args = build_parser().parse_args(argv)  # imports every command: Ctrl-C is honoured here too

@@ -117,7 +117,7 @@ def input_dir(path: Path, what: str = "results directory") -> Path:
 
 
 def check_cache() -> Path:
-    """The demonstration cache folder if usable (``$IOC_BENCH_CACHE`` or the default), else
+    """The demonstration cache folder if usable (:func:`ioc_bench.cache.cache_dir`), else
     :class:`UsageError`: checked before the work, not when the first demonstration is saved."""
     from ioc_bench.cache import check_cache as check
 
