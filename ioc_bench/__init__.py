@@ -7,15 +7,9 @@ Finley & Righetti, "A Robustness Analysis of Inverse Optimal Control of Bipedal 
 from __future__ import annotations
 
 import importlib
-import logging
 from typing import Any
 
 from ioc_bench._version import __version__
-
-# What the library reports goes to ``logging.getLogger(__name__)`` of its modules; as a
-# library it adds no output of its own (an application, or the ``ioc-bench`` command line,
-# chooses where records go).
-logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 #: Where each public name lives; imported on first use, so ``import ioc_bench`` (and the
 #: command line's start, when Ctrl-C must already be honoured) does not load CasADi.

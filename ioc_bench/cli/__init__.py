@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import logging
 import sys
 from collections.abc import Sequence
 
@@ -49,39 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-class _StderrHandler(logging.StreamHandler):
-    """A handler writing each record to ``sys.stderr`` as it is when the record comes."""
-
-    def __init__(self, level: int) -> None:
-        super().__init__()
-        self.setLevel(level)
-
-    @property
-    def stream(self):  # type: ignore[override]
-        return sys.stderr
-
-    @stream.setter
-    def stream(self, _value) -> None:
-        pass
-
-
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line ``argv`` (default: ``sys.argv[1:]``); its exit code.
-
-    While it runs, the package's log records of level WARNING and above are printed on
-    stderr, bare, as Python printed them before the package had a handler of its own.
-    """
-    handler = _StderrHandler(logging.WARNING)
-    handler.setFormatter(logging.Formatter("%(message)s"))
-    log = logging.getLogger("ioc_bench")
-    log.addHandler(handler)
-    try:
-        return _main(argv)
-    finally:
-        log.removeHandler(handler)
-
-
-def _main(argv: Sequence[str] | None) -> int:
     command = "ioc-bench"
     try:
         args = build_parser().parse_args(argv)  # imports every command: Ctrl-C is honoured here too

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import argparse
 import json
-import logging
 import subprocess
 import sys
 
@@ -100,29 +98,3 @@ def test_version_from_a_shell(tmp_path):
     argv = [sys.executable, "-m", "ioc_bench.cli", "--version"]
     proc = subprocess.run(argv, capture_output=True, text=True, cwd=tmp_path, check=False)
     assert proc.returncode == 0 and proc.stdout == f"ioc-bench {__version__}\n"
-
-
-def test_library_warnings_reach_stderr_under_the_cli_only(capsys, monkeypatch):
-    from ioc_bench import cli
-
-    library = logging.getLogger("ioc_bench.some_module")
-
-    def run(_args):
-        library.warning("a warning from the library")
-        library.info("progress the CLI does not show")
-        return 0
-
-    parser = argparse.ArgumentParser()
-    parser.set_defaults(run=run, command="x")
-    monkeypatch.setattr(cli, "build_parser", lambda: parser)
-    assert cli.main([]) == 0
-    assert capsys.readouterr().err == "a warning from the library\n"
-    handlers = logging.getLogger("ioc_bench").handlers
-    assert not any(isinstance(h, logging.StreamHandler) for h in handlers)  # the CLI's is gone
-    assert any(isinstance(h, logging.NullHandler) for h in handlers)
-
-
-def test_the_library_alone_prints_no_log_records(tmp_path):
-    code = "import logging, ioc_bench; logging.getLogger('ioc_bench.x').warning('not printed')"
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, check=False)
-    assert proc.returncode == 0 and proc.stdout == proc.stderr == ""
