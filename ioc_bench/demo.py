@@ -93,8 +93,8 @@ class Demonstration:
     def save(self, path: str | os.PathLike) -> Path:
         """Write the demonstration to ``path`` (``.npz``) atomically; returns the path.
 
-        Raises ``ValueError`` (:class:`~ioc_bench.fileio.PathError`) for a path that cannot
-        be written (see :func:`~ioc_bench.fileio.check_output_file`), before writing.
+        Raises ``ValueError`` (:class:`~ioc_bench.paths.PathError`) for a path that cannot
+        be written (see :func:`~ioc_bench.paths.check_output_file`), before writing.
         """
         path = check_output_file(path)
         meta = {

@@ -12,7 +12,7 @@ never read as results (:func:`is_temporary`), and :func:`remove_temporaries` del
 file of ours is written as (:func:`json_text`).
 
 What a path may be (the checks every command and the API make before any work) is
-:mod:`ioc_bench.paths`; its names stay importable from here too.
+:mod:`ioc_bench.paths`, which builds on this module (never the other way round).
 """
 
 from __future__ import annotations
@@ -228,34 +228,3 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
-
-
-#: The path policy's names, importable from here for code written before it had its own module.
-_PATH_POLICY = frozenset(
-    {
-        "MAX_NAME_BYTES",
-        "SHOWN_PATH",
-        "MAX_PATH_BYTES",
-        "PSEUDO_FILESYSTEMS",
-        "PSEUDO_ROOTS",
-        "PathError",
-        "check_path_text",
-        "check_output_dir",
-        "check_output_file",
-        "check_input_file",
-        "check_input_dir",
-        "check_inside",
-        "read_bytes",
-        "check_file_name",
-        "pseudo_filesystem",
-    }
-)
-
-
-def __getattr__(name: str) -> Any:
-    """The names of :mod:`ioc_bench.paths`, for ``from ioc_bench.fileio import PathError`` and the like."""
-    if name in _PATH_POLICY:
-        from ioc_bench import paths
-
-        return getattr(paths, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
