@@ -44,7 +44,7 @@ def plot_comparison(
     path: str | os.PathLike,
 ) -> Path:
     """Joint angles and torques: demonstration vs MuJoCo open loop vs every closed-loop step."""
-    from ioc_bench.viz.common import plt, save_figure
+    from ioc_bench.plotting import plt, save_figure
 
     ref = Reference.of(demo)
     fig, axes = plt.subplots(3, 2, figsize=(10, 9))

@@ -10,7 +10,7 @@ import numpy as np
 
 from ioc_bench.human.record import HumanResult, SpeedScore
 from ioc_bench.human.step import LEG_SEGMENTS
-from ioc_bench.viz.common import plt, save_figure
+from ioc_bench.plotting import plt, save_figure
 
 _STYLES = ("--", ":", "-.")
 

@@ -1,17 +1,7 @@
-"""Figure helpers shared by every plot."""
+"""What the benchmark's figures share beyond :mod:`ioc_bench.plotting` (headless pyplot,
+atomic figure files): one colour per cost feature."""
 
 from __future__ import annotations
-
-import io
-import os
-from pathlib import Path
-
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-
-from ioc_bench.fileio import atomic_write
 
 #: One colour per cost feature, reused across every figure.
 FEATURE_COLORS = {
@@ -22,12 +12,3 @@ FEATURE_COLORS = {
     "steplen": "tab:brown",
     "footheight": "tab:pink",
 }
-
-
-def save_figure(fig: plt.Figure, path: str | os.PathLike, dpi: int = 120) -> Path:
-    """Save ``fig`` to ``path`` atomically (format from the suffix) and close it."""
-    path = Path(path)
-    buf = io.BytesIO()
-    fig.savefig(buf, format=path.suffix.lstrip(".") or "png", dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
-    return atomic_write(path, lambda f: f.write(buf.getvalue()))

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
+from ioc_bench.plotting import plt, save_figure
+from ioc_bench.viz.common import FEATURE_COLORS
 
 
 def draw_convergence(ax, result, legend: bool = True) -> None:

@@ -31,8 +31,9 @@ from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 from ioc_bench.fileio import atomic_write_text
 from ioc_bench.paths import PathError, check_file_name, check_output_dir, check_output_file
+from ioc_bench.plotting import plt, save_figure
 from ioc_bench.table1 import markdown_table, pattern_summary
-from ioc_bench.viz.common import FEATURE_COLORS, plt, save_figure
+from ioc_bench.viz.common import FEATURE_COLORS
 from ioc_bench.viz.convergence import draw_convergence
 from ioc_bench.weights import WEIGHT_SETS
 

@@ -10,7 +10,7 @@ import numpy as np
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.linkage import joint_angle, point_position
-from ioc_bench.viz.common import plt, save_figure
+from ioc_bench.plotting import plt, save_figure
 
 
 def _ends(segment) -> tuple[str, str]:
