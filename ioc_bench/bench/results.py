@@ -614,7 +614,7 @@ def _human_case(record: Any, case_config: Mapping[str, Any] | None) -> Case:
 
 
 def _human_parse(data: Any) -> Record:
-    from ioc_bench.human.record import parse_record
+    from ioc_bench.human.case import parse_record
 
     return parse_record(data)
 

@@ -55,7 +55,7 @@ from ioc_bench.human import baselines
 from ioc_bench.human.models import HUMAN_MODELS as HUMAN_MODELS  # the case's models, named here too
 from ioc_bench.human.models import check_human_model, subject_params
 from ioc_bench.human.observe import human_observation
-from ioc_bench.human.record import GIVEN_STEP, TASKS, TRACK, HumanResult, SpeedScore, design_of
+from ioc_bench.human.record import GIVEN_STEP, TASKS, TRACK, HumanResult, SpeedScore, design_of, read_record
 from ioc_bench.human.scoring import (
     NOMINAL,
     SolvedStep,
@@ -319,8 +319,6 @@ class HumanCaseSpec:
 
     def write_extras(self, root: str | Path, record: HumanResult) -> None:
         """The case's figure beside its result file (``.png``), if it is not there yet."""
-        from ioc_bench.human.figures import write_case_figures
-
         write_case_figures(root, [record], self.data)
 
     # -- scoring ----------------------------------------------------------------------------------
@@ -350,6 +348,44 @@ class HumanCaseSpec:
             notes=dict(outcome.result.notes) if ok else {},
             oracle=outcome.stats.to_dict() if outcome else {},
         )
+
+
+# -- records of cases ------------------------------------------------------------------------------
+def parse_record(data: Any) -> HumanResult:
+    """A :class:`HumanResult` from a result file's decoded JSON, checked for everything a file
+    may have been edited into: its own values (:func:`~ioc_bench.human.record.read_record`) and
+    that it is a valid case's record (:func:`check_record`); ``ValueError`` naming the first problem."""
+    record = read_record(data)
+    check_record(record)
+    return record
+
+
+def check_record(record: HumanResult) -> None:
+    """``ValueError`` unless ``record`` is the record of a valid case: its identity makes a
+    :class:`HumanCaseSpec` (subject, speeds, algorithm, config, options), its features are the
+    case's model's, and its scores are the case's speeds with their roles (none if it failed)."""
+    spec = HumanCaseSpec(**{f: getattr(record, f) for f in HumanCaseSpec.identity_fields()})
+    if tuple(record.features) != spec.features:
+        raise ValueError(f"features {list(record.features)} are not the model's {list(spec.features)}")
+    expected = {} if record.failed else {code: spec.role(code) for code in spec.scored}
+    if {c: s.role for c, s in record.scores.items()} != expected:
+        raise ValueError(f"scores must be the case's speeds with their roles {expected}, got {sorted(record.scores)}")
+
+
+def write_case_figures(out: str | Path, records: Sequence[HumanResult], data: str | None = None) -> list[Path]:
+    """The figure (``.png`` beside its result file, :func:`ioc_bench.human.figures.plot_human_case`)
+    of every case in ``records`` that has none yet in the results folder ``out`` (a run killed
+    between a case's record and its figure leaves it to the next run)."""
+    from ioc_bench.human.figures import plot_human_case  # matplotlib: only where figures are drawn
+
+    written = []
+    for record in records:
+        spec = HumanCaseSpec(**{f: getattr(record, f) for f in HumanCaseSpec.identity_fields()}, data=data)
+        path = spec.path(out).with_suffix(".png")
+        if not path.is_file():
+            steps = spec.steps()
+            written.append(plot_human_case(record, {c: steps[c].angles for c in spec.scored}, path))
+    return written
 
 
 def score_speed(

@@ -109,22 +109,6 @@ def _change_panel(record: HumanResult, score: SpeedScore, humans: Mapping[str, n
     }
 
 
-def write_case_figures(out: str | os.PathLike, records: Sequence[HumanResult], data: str | None = None) -> list[Path]:
-    """The figure (``.png`` beside its result file) of every case in ``records`` that has none
-    yet in the results folder ``out`` (a run killed between a case's record and its figure
-    leaves it to the next run)."""
-    from ioc_bench.human.case import HumanCaseSpec
-
-    written = []
-    for record in records:
-        spec = HumanCaseSpec(**{f: getattr(record, f) for f in HumanCaseSpec.identity_fields()}, data=data)
-        path = spec.path(out).with_suffix(".png")
-        if not path.is_file():
-            steps = spec.steps()
-            written.append(plot_human_case(record, {c: steps[c].angles for c in spec.scored}, path))
-    return written
-
-
 def _deg(value) -> str:
     return "failed" if value is None or not np.isfinite(value) else f"{value:.1f} deg"
 

@@ -2,11 +2,13 @@
 
 A record is the case (its identity, :class:`~ioc_bench.human.case.HumanCaseSpec`'s fields),
 what the algorithm returned on the training steps, and one :class:`SpeedScore` per speed
-of the case (the training speeds' fits and the predicted speeds). :func:`parse_record`
-checks everything a file may have been edited into: every field's type, every number's
-range, the identity (a valid case, whose speeds are the scores' speeds), and every number
-that derives from others (the floor is the lowest RMSE solved there, the skill the formula
-of the three RMSEs, the wins the comparisons they name, the estimate of unit norm).
+of the case (the training speeds' fits and the predicted speeds). :func:`read_record`
+checks everything a file may have been edited into that the record says of itself: every
+field's type, every number's range, and every number that derives from others (the floor
+is the lowest RMSE solved there, the skill the formula of the three RMSEs, the wins the
+comparisons they name, the estimate of unit norm). Whether it is the record of a valid
+case, whose speeds are the scores' speeds, is the case's to say:
+:func:`ioc_bench.human.case.parse_record` reads a result file with both checks.
 """
 
 from __future__ import annotations
@@ -226,34 +228,28 @@ def design_of(n_training: int, n_predicted: int, population: bool) -> str:
 _FILE_KEYS = {"case_key": Any, "case_config": Any}
 
 
-def parse_record(data: Any) -> HumanResult:
-    """A :class:`HumanResult` from decoded JSON; ``ValueError`` naming the first problem."""
+def read_record(data: Any) -> HumanResult:
+    """A :class:`HumanResult` from decoded JSON, its own values checked (:func:`check_values`);
+    ``ValueError`` naming the first problem. Not checked here: that it is a valid case's record
+    (:func:`ioc_bench.human.case.parse_record` checks both)."""
     values = json_fields(HumanResult, data, extra=_FILE_KEYS, hints={"scores": dict[str, Any]})
     if values.get("track") != TRACK:
         raise ValueError(f"track must be {TRACK!r}, got {shown(values.get('track'))}")
     scores = values["scores"]
     values["scores"] = {code: SpeedScore(**json_fields(SpeedScore, s, f"scores[{code}]")) for code, s in scores.items()}
     record = HumanResult(**values)
-    check_record(record)
+    check_values(record)
     return record
 
 
-def check_record(record: HumanResult) -> None:
-    """``ValueError`` naming the first value of ``record`` out of range or inconsistent."""
-    from ioc_bench.human.case import HumanCaseSpec  # which imports this module
-
-    identity = {f: getattr(record, f) for f in HumanCaseSpec.identity_fields()}
-    spec = HumanCaseSpec(**identity)  # a valid case: subject, speeds, algorithm, config, options
-    if tuple(record.features) != spec.features:
-        raise ValueError(f"features {list(record.features)} are not the model's {list(spec.features)}")
+def check_values(record: HumanResult) -> None:
+    """``ValueError`` naming the first value of ``record`` out of range or inconsistent with
+    the others (its identity is checked against a case by :func:`ioc_bench.human.case.check_record`)."""
     _check_weights(record)
     for name in ("wall_time", "scoring_time"):
         _non_negative(name, getattr(record, name), nan=False)
     if not 0 <= record.n_solves <= 10**9:
         raise ValueError(f"n_solves must be between 0 and 10**9, got {shown(record.n_solves)}")
-    expected = {} if record.failed else {code: spec.role(code) for code in spec.scored}
-    if {c: s.role for c, s in record.scores.items()} != expected:
-        raise ValueError(f"scores must be the case's speeds with their roles {expected}, got {sorted(record.scores)}")
     for code, score in record.scores.items():
         if score.speed_code != code:
             raise ValueError(f"scores[{code}] is the score of {shown(score.speed_code)}")
