@@ -7,7 +7,8 @@ code; workers die with the parent however it dies (:mod:`ioc_bench.processes`), 
 run leaves no orphaned cases.
 Each worker's numpy BLAS gets this machine's cores divided among the workers: unlimited,
 two workers with two BLAS threads each on 2 cores ran inverse-kkt's dense least squares
-2-3x slower (docs/speed.md). CasADi's own OpenBLAS (IPOPT's MUMPS) is not limited.
+2-3x slower (docs/performance.md, "Parallel cases and BLAS threads"). CasADi's own
+OpenBLAS (IPOPT's MUMPS) is not limited.
 """
 
 from __future__ import annotations
