@@ -46,210 +46,17 @@ DemonstrationSpec = Demonstration | str | os.PathLike
 
 
 class PlanarWalkerEnv(gym.Env, utils.EzPickle):
-    r"""
-    ## Description
-    The five-segment planar walker of ioc-bench (a torso, two thighs and two shanks with
-    point feet; Rebula et al., "A Robustness Analysis of Inverse Optimal Control of Bipedal
-    Walking") in MuJoCo. The model is generated from the same `WalkerParams` the
-    trajectory optimizer uses, so a model variant (e.g. `WalkerParams().with_leg_mass_scale(1.1)`)
-    is an argument, not a new environment; so is the catalogue's `rolling-feet` walker
-    (`FootedParams()`: each shank ends in a rolling arc, a MuJoCo sphere of its radius,
-    and the knee is free within its range). Everything is dimensionless: leg length 1, body
-    mass 1, gravity 1, time unit $\sqrt{L/g}$. The reward is forward progress minus the
-    cost features the demonstrations minimise, so an optimal demonstration is a good
-    policy and an IRL method can be scored on the weights.
+    """The ioc-bench walker in MuJoCo: ``gymnasium.make("envs:IOCBench/PlanarWalker-v2", **kwargs)``.
 
-    Physics: MuJoCo RK4 steps of 0.002 (as Walker2d-v5), 5 per action, so `dt` = 0.01;
-    soft point-foot contact and the knee limit as the passive knee-lock
-    (`ioc_bench.model.mjcf`). The step size was measured against 0.0005 (`ContactSettings`'
-    default): docs/environment.md.
+    The five-segment planar walker, its MuJoCo model generated from the same ``WalkerParams``
+    as the trajectory optimizer. The reward is forward progress minus the weighted cost
+    features the demonstrations minimise, so an optimal demonstration is a good policy and an
+    IRL method can be scored on the weights. Feet and ground follow the optimizer's model
+    (friction on the stance foot only; a heel strike only beyond the landing distance), so
+    a mid-swing graze of the benchmark's steps is neither a scuff nor a heel strike.
 
-    Feet and ground follow the trajectory optimizer's model, not plain MuJoCo. There the
-    ground holds the stance foot (a pin inside the friction cone) and takes the landing at
-    heel strike, and never acts on the swing foot, which may touch the ground at height 0
-    mid-swing with no force; the benchmark's optimal steps do (they graze the ground
-    mid-swing and set the swing foot down with zero velocity). In plain MuJoCo such a
-    graze is a scuff with friction (on the nominal step a braking force of 5.5 body
-    weights, on the friction cone's edge, for two physics steps, unloading the stance
-    foot) and was counted as a heel strike. So, unlike plain MuJoCo:
-    - only the **stance** foot has friction (coefficient `params.friction`, pyramidal
-      cone, MuJoCo `condim` 3); the **swing** foot's contact is frictionless (`condim` 1:
-      the floor still holds it up, it cannot drag it). The feet have contact priority over
-      the floor, so each foot's own `condim` decides. The two swap at every heel strike.
-    - a **heel strike** is the swing foot, off the floor since the last one, touching the
-      floor more than the episode's *landing distance* ahead of the stance foot:
-      3/4 of the demonstration's step length when the episode started from one
-      (`envs.heel_strikes.LANDING_FRACTION`), 0 (anywhere ahead) for a standing start.
-      Nearer touchdowns are grazes: they are not counted and the roles stay.
-    - gait events (lift-off, heel strike, and with them the friction) are checked after
-      every physics step, not once per action.
-    Everything else (masses, joints, knee limit, the floor's position and softness) is the
-    generated model's. docs/environment.md, "Grazing swing feet", has the measurements.
-
-    Legs are physical (`a`, `b`); a demonstration's stance leg is leg `a` after a reset
-    from it. `envs.TrackingPolicy(demonstration)` turns a demonstration into actions
-    (feed-forward torques plus PD tracking, legs swapped at each heel strike).
-
-    ## Action Space
-    `Box(-max_torque, max_torque, (4,), float32)` (default `max_torque` 1): joint torques.
-    Actions outside the box are clipped; an action with a NaN or infinite entry, or of
-    another shape, raises `ValueError`.
-
-    | Num | Action                              | Min  | Max | Name (joint and motor) | Joint | Type (Unit)        |
-    |-----|-------------------------------------|------|-----|------------------------|-------|--------------------|
-    | 0   | Torque on the hip of leg a          | -1   | 1   | hip_a                  | hinge | torque (m g L)     |
-    | 1   | Torque on the hip of leg b          | -1   | 1   | hip_b                  | hinge | torque (m g L)     |
-    | 2   | Torque on the knee of leg a         | -1   | 1   | knee_a                 | hinge | torque (m g L)     |
-    | 3   | Torque on the knee of leg b         | -1   | 1   | knee_b                 | hinge | torque (m g L)     |
-
-    A joint torque acts $+\tau$ on the child segment (thigh, shank) and $-\tau$ on the
-    parent. The order is ioc-bench's `ACTUATORS` (hip stance, hip swing, knee stance,
-    knee swing) with leg `a` in stance; `info["stance_leg"]` says which leg stands now.
-
-    ## Observation Space
-    `Box(-inf, inf, (17,), float64)`: MuJoCo's positions without the hip's x, its
-    velocities, and the previous torque. Nothing is clipped or wrapped (angles are
-    unbounded: a hip that turned a full circle reads 2 pi more). With
-    `exclude_current_positions_from_observation=False` the hip's x is prepended, shape
-    `(18,)`. `envs.observation.split_observation` takes one apart. Angles in rad, lengths
-    in leg lengths, velocities in $\sqrt{gL}$ and 1/T.
-
-    | Num | Observation                              | Min  | Max  | Name (joint) | Joint | Type (Unit)              |
-    |-----|------------------------------------------|------|------|--------------|-------|--------------------------|
-    | 0   | height of the hip                        | -inf | inf  | rootz        | slide | position (L)             |
-    | 1   | torso angle from vertical (+ leans fwd)  | -inf | inf  | rooty        | hinge | angle (rad)              |
-    | 2   | hip angle of leg a (thigh - torso)       | -inf | inf  | hip_a        | hinge | angle (rad)              |
-    | 3   | knee flexion of leg a (0 = straight)     | -inf | inf  | knee_a       | hinge | angle (rad)              |
-    | 4   | hip angle of leg b                       | -inf | inf  | hip_b        | hinge | angle (rad)              |
-    | 5   | knee flexion of leg b                    | -inf | inf  | knee_b       | hinge | angle (rad)              |
-    | 6   | forward velocity of the hip              | -inf | inf  | rootx        | slide | velocity (sqrt(gL))      |
-    | 7   | vertical velocity of the hip             | -inf | inf  | rootz        | slide | velocity (sqrt(gL))      |
-    | 8   | torso angular velocity                   | -inf | inf  | rooty        | hinge | angular velocity (1/T)   |
-    | 9   | hip angular velocity of leg a            | -inf | inf  | hip_a        | hinge | angular velocity (1/T)   |
-    | 10  | knee angular velocity of leg a           | -inf | inf  | knee_a       | hinge | angular velocity (1/T)   |
-    | 11  | hip angular velocity of leg b            | -inf | inf  | hip_b        | hinge | angular velocity (1/T)   |
-    | 12  | knee angular velocity of leg b           | -inf | inf  | knee_b       | hinge | angular velocity (1/T)   |
-    | 13  | previous torque, hip of leg a            | -1   | 1    | hip_a        | motor | torque (m g L)           |
-    | 14  | previous torque, hip of leg b            | -1   | 1    | hip_b        | motor | torque (m g L)           |
-    | 15  | previous torque, knee of leg a           | -1   | 1    | knee_a       | motor | torque (m g L)           |
-    | 16  | previous torque, knee of leg b           | -1   | 1    | knee_b       | motor | torque (m g L)           |
-    | excluded | forward position of the hip         | -inf | inf  | rootx        | slide | position (L)             |
-
-    The previous torque is the last action as applied (clipped), 0 after a reset; it is
-    observed because the *reward_dtau* term depends on it. The first step after a reset has
-    *reward_dtau* = 0 whatever its torque (the torque-rate feature's sum has no term before
-    the first knot).
-
-    ## Rewards
-    The reward is the sum of the terms in `info` (`REWARD_TERMS`, in this order):
-    - *reward_forward*: `forward_reward_weight * (x_after - x_before) / dt`, the hip's
-      forward velocity over the step.
-    - *reward_hip*, *reward_knee*, *reward_dtau*: minus `cost_scale * w_i` times the step's
-      increment of each cost feature of ioc-bench, computed by the very function the
-      optimizer sums over a step's knots (`ioc_bench.features.FEATURES[name].increment`,
-      with `dt` as the knot spacing). Like the features they are in the paper's units (SI
-      units of a 1 m, 1 kg walker under g = 9.81: torques in N m, time in s):
-      `phi_hip = (tau_hip_a^2 + tau_hip_b^2) dt` with `tau` in N m and `dt` in s, `phi_knee`
-      likewise for the knees, `phi_dtau = 0.001 * sum_j ((tau_j - tau_j,prev) / dt)^2 dt`
-      (0 on the first step after a reset). A demonstration's feature is the sum of these
-      increments over its step divided by the step's duration in seconds. The weights `w`
-      are unit-norm over (hip, knee, dtau): the `weights` argument if given; else those of
-      the demonstration the episode started from, and nominal (1, 1, 1) for a standing start.
-      `env.weights` holds the ones in use and `reset`'s `info["reward_weights"]` reports them.
-
-    `info` also carries each raw increment (`phi_hip`, `phi_knee`, `phi_dtau`), the hip's
-    `x_position` and `x_velocity`, which feet touch the floor (`contact_a`, `contact_b`),
-    the leg in the stance role (`stance_leg`, "a" or "b") and the heel strikes since the
-    reset (`heel_strikes`). A heel strike is the swing foot landing (see Description: it
-    touches the floor beyond the landing distance ahead of the stance foot after having
-    left it; checked after every physics step); the roles, and the feet's friction, then
-    swap. `reset`'s `info` has `x_position`, `stance_leg`, `heel_strikes` and
-    `reward_weights`.
-
-    ## Starting State
-    Without a demonstration: `init_qpos` (standing with straight legs, hip at height 1
-    above the feet) and `init_qvel` (0) plus uniform noise in $[-\epsilon, \epsilon]$
-    ($\epsilon$ = `reset_noise_scale`) on every joint angle (knee flexions take its absolute
-    value, so they stay in range) and on every velocity; the walker is then lowered onto
-    its lowest foot, whose leg is the stance leg (the other foot is frictionless); the
-    landing distance is 0.
-    With a demonstration (the `demonstration` argument, or `reset(options={"demonstration":
-    demo})` for one reset; `options={"demonstration": None}` for a standing start):
-    exactly the demonstration's initial state (knot 0, just after heel strike), leg `a` in
-    stance, no noise; the landing distance is 3/4 of its step length. A `Demonstration`
-    or a path to one; its segment lengths must match the environment's (masses may
-    differ: that is the "wrong model" check). Vector environments reset finished episodes
-    without options, so give the demonstration as an argument there
-    (`gymnasium.make_vec(..., demonstration=demo)`).
-
-    ## Episode End
-    ### Termination
-    The walker falls: the hip height leaves `healthy_z_range` (default `(0.6, 2.0)`) or the
-    torso angle leaves `healthy_angle_range` (default `(-1, 1)` rad), when
-    `terminate_when_unhealthy` is True.
-    ### Truncation
-    1000 steps (10 time units: 7-8 of the benchmark's steps of 1.2-1.4) when made with
-    `gymnasium.make` (`max_episode_steps` overrides it).
-
-    ## State
-    `get_state()` returns a `WalkerState`: MuJoCo's integration state (time, `qpos`,
-    `qvel`, the solver's warm start, controls, applied forces) and the environment's own
-    (previous torque, stance leg, which also sets the feet's friction, heel-strike
-    bookkeeping and landing distance, reward weights).
-    `set_state(state)` restores it exactly: the next `step` gives bit-for-bit the same
-    result. As in Gymnasium's `MujocoEnv`, `set_state(qpos, qvel)` sets positions and
-    velocities only, and `state_vector()` is `concatenate([qpos, qvel])`. Pickling and
-    `copy.deepcopy` carry the state and the random generator along.
-
-    ## Arguments
-    `gymnasium.make("envs:IOCBench/PlanarWalker-v2", **kwargs)` (or `import envs` first).
-
-    | Parameter                  | Type              | Default       | Description                                  |
-    |----------------------------|-------------------|---------------|----------------------------------------------|
-    | `params`                   | `WalkerParams`    | nominal       | the model; `FootedParams`: rolling feet      |
-    | `weights`                  | weight spec       | `None`        | unit-normalised; None: see Rewards           |
-    | `demonstration`            | `Demonstration`, path or None | `None` | start every episode from its knot 0     |
-    | `forward_reward_weight`    | `float`           | `1.0`         | weight of *reward_forward*                   |
-    | `cost_scale`               | `float`           | `1.0`         | multiplies every cost term                   |
-    | `frame_skip`               | `int`             | `5`           | physics steps per action (dt = 0.01)         |
-    | `healthy_z_range`          | `tuple`           | `(0.6, 2.0)`  | hip heights that count as standing           |
-    | `healthy_angle_range`      | `tuple`           | `(-1.0, 1.0)` | torso angles that count as standing          |
-    | `terminate_when_unhealthy` | `bool`            | `True`        | end the episode on a fall                    |
-    | `reset_noise_scale`        | `float`           | `5e-3`        | noise of the standing start                  |
-    | `exclude_current_positions_from_observation` | `bool` | `True` | leave the hip's x out of the observation   |
-    | `contact`                  | `ContactSettings` | timestep 0.002 | MuJoCo contact settings and physics timestep |
-    | `render_mode`              | `str`             | `None`        | `"rgb_array"` or None                        |
-    | `width`, `height`          | `int`             | `480`, `360`  | image size in pixels                         |
-    | `renderer`                 | `str`             | `"auto"`      | `"mujoco"`, `"stick"` or `"auto"`, see below |
-
-    Rendering: `"mujoco"` is MuJoCo's OpenGL renderer with a camera tracking the walker;
-    headless it needs `MUJOCO_GL=egl` (or `osmesa`) set before MuJoCo is imported and the
-    matching system library, and it raises `RendererUnavailableError` when no OpenGL
-    context can be made. `"stick"` draws a stick figure with matplotlib's Agg backend and
-    always works (no OpenGL). `"auto"` tries MuJoCo and falls back to the stick figure
-    when no OpenGL context can be made (once per process). `env.renderer_in_use` says which
-    one draws (`"mujoco"` or `"stick"`; None before the first `render`). With software
-    OpenGL (e.g. Mesa's llvmpipe through EGL) MuJoCo's frames cost far more than the stick
-    figure's: see docs/environment.md.
-
-    ## Version History
-    * v2: contact as in the trajectory optimizer's model: the swing foot is frictionless
-      and the stance foot keeps the friction, swapping at heel strikes; a heel strike
-      needs the touchdown to be beyond the landing distance (3/4 of the demonstration's
-      step) ahead of the stance foot, so mid-swing grazes are not counted; gait events
-      are checked after every physics step (v1: plain MuJoCo contact, both feet with
-      friction, any touchdown ahead counted, checked once per action). The state carries
-      the landing distance.
-    * v1: physics steps of 0.002 with `frame_skip` 5 (v0: 0.0005 and 20; `dt` is still
-      0.01), about 2.5x the steps per second; observations no longer clipped (velocities
-      were clipped at +-10 and angles at +-pi) and extended by the previous torque (17
-      entries); NaN or infinite actions raise;
-      `info` reports the stance leg and heel strikes; `get_state`/`set_state`/
-      `state_vector`/`init_qpos`, and pickling and `deepcopy` keep the state; the
-      `demonstration` argument (vector autoreset); `weights=None` follows the
-      demonstration's weights; `renderer="mujoco"` never falls back silently, and
-      `renderer_in_use` reports the renderer.
-    * v0: initial version (MuJoCo >= 3.1, Gymnasium 1.x).
+    Spaces, reward, ``info``, starting state, termination, state, arguments, rendering and
+    the registered ids are in docs/environment.md, with the measurements behind them.
     """
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 100}
@@ -354,7 +161,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
         return np.concatenate([self.data.qpos, self.data.qvel])
 
     def get_state(self) -> WalkerState:
-        """Everything the next step depends on (see the class docstring, section State)."""
+        """Everything the next step depends on (docs/environment.md, "State")."""
         physics = np.empty(mujoco.mj_stateSize(self.model, _PHYSICS_STATE))
         mujoco.mj_getState(self.model, self.data, physics, _PHYSICS_STATE)
         return WalkerState(

@@ -1,4 +1,4 @@
-"""A gradient-based IOC plugin written from the public API only (README, docs/differentiable.md).
+"""A gradient-based IOC plugin written from the public API only (docs/plugin_api.md, docs/differentiable.md).
 
 Gradient descent on the tracking error of the weights' optimum, on the unit sphere of
 weights: the gradient comes from the forward problem's KKT sensitivity

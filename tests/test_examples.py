@@ -1,4 +1,4 @@
-"""The README's worked example registers, runs and is scored like a built-in."""
+"""The worked plugin example (docs/plugin_api.md) registers, runs and is scored like a built-in."""
 
 from __future__ import annotations
 
