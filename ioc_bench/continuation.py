@@ -18,6 +18,7 @@ import numpy as np
 
 from ioc_bench.checks import shown
 from ioc_bench.demo import Demonstration
+from ioc_bench.features import model_features
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import optimize_gait
 from ioc_bench.task import Task
@@ -97,6 +98,16 @@ def _between(a: Task, b: Task, s: float) -> Task:
 
 def _solve(at: Demonstration, task: Task, verify: bool) -> Demonstration:
     model = get_model(at.model)
+    # A step of a basis beyond the model's default (weights on e.g. ``work``) keeps its basis.
+    features = None if set(at.weights) <= set(model_features(model)) else tuple(at.weights)
     return optimize_gait(
-        at.weights, at.params, task, init=at, workers=1, n_intervals=at.n_intervals, verify=verify, model=model
+        at.weights,
+        at.params,
+        task,
+        init=at,
+        workers=1,
+        n_intervals=at.n_intervals,
+        verify=verify,
+        model=model,
+        features=features,
     )

@@ -19,7 +19,7 @@ from ioc_bench.features import evaluate, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
-from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, get_forward_problem
+from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, basis_key, get_forward_problem
 from ioc_bench.trajopt.gait_figures import solved_gait_figures
 from ioc_bench.trajopt.initial_guess import multistart_guesses
 from ioc_bench.trajopt.local_minimum import verify_local_minimum
@@ -50,12 +50,13 @@ def optimize_gait(
     rules: StepRules = StepRules(),
     model: GaitModel = WALKER,
     verify: bool = True,
+    features: Sequence[str] | None = None,
 ) -> Demonstration:
     """Optimize the periodic step for ``weights``; returns the best feasible optimum found.
 
     Args:
-        weights: a name of ``WEIGHT_SETS``, numbers over (hip, knee, dtau) or over all the
-            model's features, or a mapping from feature name to weight. Normalised to unit norm.
+        weights: a name of ``WEIGHT_SETS``, numbers over (hip, knee, dtau) or over all of
+            ``features``, or a mapping from feature name to weight. Normalised to unit norm.
         params: the model's parameters (default: the model's nominal ones, ``docs/spec.md``, "Segment parameters").
         task: the task (default: speed 0.27, step length free).
         starts: multi-start size: start 0 is the rough periodic guess, the others perturb
@@ -71,6 +72,10 @@ def optimize_gait(
         model: the gait model (default: the 5-segment walker).
         verify: check the chosen step for being a local minimum of its own cost, and
             polish it until it is (the check's result is stored in the demonstration).
+        features: the basis the cost weighs, in weight order (default: the model's
+            :func:`~ioc_bench.features.model_features`; any of its
+            :func:`~ioc_bench.features.available_features`, e.g. with ``work`` and
+            ``collision``); the demonstration's weights are over it.
 
     Returns:
         The demonstration, whose ``solver`` reports status, violation, iterations and time
@@ -81,14 +86,16 @@ def optimize_gait(
         ValueError: bad input, naming the argument, before any solve: weights; a
             ``params``, ``task``, ``rules``, ``model``, ``init`` or item of ``guesses`` of
             the wrong type; counts below 1 or above :data:`MAX_STARTS` (starts, workers)
-            or :data:`MAX_INTERVALS`; a negative seed; a non-callable ``on_start_done``.
+            or :data:`MAX_INTERVALS`; a negative seed; a non-callable ``on_start_done``;
+            a feature the model lacks.
     """
     model = _instance(model, GaitModel, "model", "ioc_bench.model.walker.WALKER") or WALKER
     params_type = type(model.default_params)
     params = _instance(params, params_type, "params", f"{params_type.__name__}()") or model.default_params
     task = _instance(task, Task, "task", "Task(speed=0.27)") or Task()
     rules = _instance(rules, StepRules, "rules", "StepRules()") or StepRules()
-    w = parse_weights(weights, model_features(model))
+    basis = basis_key(model, features)
+    w = parse_weights(weights, basis or model_features(model))
     starts = check_count(starts, "starts", maximum=MAX_STARTS)
     seed = check_seed(seed)
     workers = check_count(workers, "workers", optional=True, maximum=MAX_STARTS)
@@ -101,7 +108,7 @@ def optimize_gait(
         raise ValueError(f"on_start_done must be callable, got {shown(on_start_done)}")
     if not isinstance(verify, (bool, np.bool_)):
         raise ValueError(f"verify must be True or False, got {shown(verify)}")
-    forward = get_forward_problem(model, n_intervals)
+    forward = get_forward_problem(model, n_intervals, basis)
     request = SolveRequest(StartPoint(np.zeros(forward.n_x)), params, task, w, rules=rules)
     if init is not None:
         start = StartPoint(forward.vector(init.trajectory), *_duals(init, forward))

@@ -136,12 +136,14 @@ def solve_step(
     label: str = "",
     model: GaitModel = WALKER,
     task: Task | None = None,
+    features: Sequence[str] | None = None,
 ) -> SolvedStep:
     """The cheapest feasible optimum of ``starts`` seeded starts for ``weights`` (over the
-    model's cost features) at ``task`` (``step``'s own task by default) on the subject's
-    parameters for ``model`` (:func:`~ioc_bench.human.models.subject_params`; the subject's
-    walker by default)."""
-    solved, _ = solve_demo(weights, step, starts, seed, label, model, task)
+    model's cost features, or over ``features``) at ``task`` (``step``'s own task by default)
+    on the subject's parameters for ``model`` (:func:`~ioc_bench.human.models.subject_params`;
+    the subject's walker by default). ``features``: the cost's basis, as
+    :func:`~ioc_bench.optimize.optimize_gait` takes it (default: the model's own)."""
+    solved, _ = solve_demo(weights, step, starts, seed, label, model, task, features)
     return solved
 
 
@@ -153,13 +155,14 @@ def solve_demo(
     label: str = "",
     model: GaitModel = WALKER,
     task: Task | None = None,
+    features: Sequence[str] | None = None,
 ) -> tuple[SolvedStep, Demonstration]:
     """:func:`solve_step`, with the optimum itself (to carry it to other speeds)."""
     t0 = time.perf_counter()
     params = subject_params(step.params, model)
     demo = optimize_gait(
         weights, params, task or step.task, starts=starts, seed=seed, workers=1, verify=False, model=model,
-        n_intervals=(step.n_knots - 1) // 2,
+        n_intervals=(step.n_knots - 1) // 2, features=features,
     )  # fmt: skip
     return SolvedStep.of(demo, label, model, time.perf_counter() - t0, starts), demo
 

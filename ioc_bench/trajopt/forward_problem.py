@@ -1,11 +1,11 @@
 """The forward problem: one gait model's step NLP, built once per process, solved many times.
 
-A :class:`ForwardProblem` owns everything about the step problem of one model and interval
-count: the transcribed NLP (:class:`~ioc_bench.trajopt.step_problem.StepProblem`), its
-IPOPT instances (cold starts, on lock-scaled variables; cold projections; warm primal-dual
-starts, as IOC inner loops re-solve near a known optimum), the parameter vector and bounds
-of a solve, the map between trajectories and decision vectors, and the derivatives
-(:attr:`ForwardProblem.derivatives`).
+A :class:`ForwardProblem` owns everything about the step problem of one model, interval
+count and feature basis: the transcribed NLP
+(:class:`~ioc_bench.trajopt.step_problem.StepProblem`), its IPOPT instances (cold starts, on
+lock-scaled variables; cold projections; warm primal-dual starts, as IOC inner loops re-solve
+near a known optimum), the parameter vector and bounds of a solve, the map between
+trajectories and decision vectors, and the derivatives (:attr:`ForwardProblem.derivatives`).
 A solve takes one :class:`SolveRequest` and returns a
 :class:`~ioc_bench.trajopt.solution.SolveResult`; a failed solve is a result, never an
 exception.
@@ -14,6 +14,7 @@ exception.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property, lru_cache
 from typing import Any
@@ -21,6 +22,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from ioc_bench.features import available_features, check_names, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
@@ -79,11 +81,24 @@ class SolveRequest:
 
 
 class ForwardProblem:
-    """The step NLP of ``model`` with ``n_intervals`` Hermite-Simpson intervals, and its solvers."""
+    """The step NLP of ``model`` with ``n_intervals`` Hermite-Simpson intervals, and its solvers.
 
-    def __init__(self, model: GaitModel = WALKER, n_intervals: int = DEFAULT_INTERVALS, lock_scale: float = LOCK_SCALE):
+    ``features`` is the basis the objective weighs, in weight order: by default the model's
+    :func:`~ioc_bench.features.model_features`; any of its
+    :func:`~ioc_bench.features.available_features` may be named (e.g. adding ``work`` and
+    ``collision``). :attr:`features` says which.
+    """
+
+    def __init__(
+        self,
+        model: GaitModel = WALKER,
+        n_intervals: int = DEFAULT_INTERVALS,
+        lock_scale: float = LOCK_SCALE,
+        *,
+        features: Sequence[str] | None = None,
+    ):
         self.model = model
-        self.step = StepProblem(model, n_intervals)
+        self.step = StepProblem(model, n_intervals, basis_key(model, features))
         self._scale = np.ones(self.step.layout.size)
         for name in LOCK_BLOCKS:
             self._scale[self.step.layout.slice(name)] = lock_scale
@@ -349,7 +364,40 @@ def _inequality_sides(values: np.ndarray, lower: np.ndarray, upper: np.ndarray, 
     return inequality & at_lower, inequality & at_upper
 
 
+def basis_key(model: GaitModel, features: Sequence[str] | None) -> tuple[str, ...] | None:
+    """The key of a feature basis of ``model``: None for its default basis
+    (:func:`~ioc_bench.features.model_features`, whether given as None or by its names),
+    else the names as a tuple, so that two bases never share a built problem.
+
+    Raises:
+        ValueError: a string instead of a sequence of names, no name, an unknown feature, or
+            a feature the model lacks (the message lists the model's features).
+    """
+    if features is None:
+        return None
+    if isinstance(features, (str, bytes)):
+        raise ValueError(f"features must be a sequence of feature names, got the string {features!r}")
+    if len(features) == 0:
+        raise ValueError(f"features must name at least one feature of model {model.name!r}")
+    names = check_names(tuple(features))
+    missing = [n for n in names if n not in available_features(model)]
+    if missing:
+        raise ValueError(
+            f"model {model.name!r} has no feature(s) {missing}; it has: {', '.join(available_features(model))}"
+        )
+    return None if names == model_features(model) else names
+
+
+def get_forward_problem(
+    model: GaitModel = WALKER, n_intervals: int = DEFAULT_INTERVALS, features: Sequence[str] | None = None
+) -> ForwardProblem:
+    """This process's forward problem for a model, ``n_intervals`` and a feature basis
+    (default: the model's :func:`~ioc_bench.features.model_features`), built on first use (a
+    few seconds). One instance per (model, intervals, :func:`basis_key`): the default basis
+    named in full is the default's instance, any other basis has its own."""
+    return _forward_problem(model, n_intervals, basis_key(model, features))
+
+
 @lru_cache(maxsize=4)
-def get_forward_problem(model: GaitModel = WALKER, n_intervals: int = DEFAULT_INTERVALS) -> ForwardProblem:
-    """This process's forward problem for a model and ``n_intervals`` (built on first use, a few seconds)."""
-    return ForwardProblem(model, n_intervals)
+def _forward_problem(model: GaitModel, n_intervals: int, key: tuple[str, ...] | None) -> ForwardProblem:
+    return ForwardProblem(model, n_intervals, features=key)

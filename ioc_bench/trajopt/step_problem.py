@@ -29,6 +29,7 @@ over positions, velocities and torques ``x``; ``w = 0, r > 0`` is the IOC's proj
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import Any
@@ -36,7 +37,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from ioc_bench.features import feature_vector, model_features, step_inputs
+from ioc_bench.features import available_features, check_names, feature_vector, model_features, step_inputs
 from ioc_bench.model.gait_model import GaitModel, GaitParams, GaitRoles, permutation
 from ioc_bench.model.linkage import (
     Linkage,
@@ -172,7 +173,9 @@ class StepProblem:
     Attributes:
         model: the gait model.
         transcription: the time discretization.
-        features: the names of the features the objective weighs, in weight order.
+        features: the names of the features the objective weighs, in weight order (by
+            default :func:`~ioc_bench.features.model_features`; any of the model's
+            :func:`~ioc_bench.features.available_features` may be given).
         layout: named blocks of the decision vector.
         params: named blocks of the parameter vector.
         constraints: named constraint groups and their default bounds.
@@ -185,12 +188,15 @@ class StepProblem:
         lock_fn: ``(x, p) -> complementarity products`` (zero at a valid solution).
     """
 
-    def __init__(self, model: GaitModel, n_intervals: int = DEFAULT_INTERVALS):
+    def __init__(self, model: GaitModel, n_intervals: int = DEFAULT_INTERVALS, features: Sequence[str] | None = None):
         self.model = model
         self.transcription = HermiteSimpson(n_intervals)
         self.linkage = model.linkage(model.default_params)
         self.roles = model.roles
-        self.features = model_features(model)
+        self.features = model_features(model) if features is None else check_names(tuple(features))
+        missing = [n for n in self.features if n not in available_features(model)]
+        if missing:
+            raise ValueError(f"model {model.name!r} has no feature(s) {missing}")
         self.seg_names = tuple(s.name for s in self.linkage.segments)
         self.actuators = tuple(j.name for j in self.linkage.actuated)
         self.locks = tuple(j.name for j in self.linkage.locked)
@@ -274,7 +280,7 @@ class StepProblem:
         self._impact(g, link, var, prm, step)
         g.add("step_length", [step], 0.0, ca.inf)
         lock_products = self._lock_products(var, flex)
-        inputs = step_inputs(self.model, link, var["dt"], var["q"], var["tau"])
+        inputs = step_inputs(self.model, link, var["dt"], var["q"], var["tau"], var["v"])
         phi = feature_vector(inputs, self.features)
         track = np.concatenate(
             [var["q"].reshape(self.n_knots, -1), var["v"].reshape(self.n_knots, -1), var["tau"]], axis=1
