@@ -288,6 +288,18 @@ def check_names(names: Sequence[str]) -> tuple[str, ...]:
     return tuple(names)
 
 
+def check_model_names(model: GaitModel, names: Sequence[str]) -> tuple[str, ...]:
+    """Validate feature names (:func:`check_names`) that ``model`` has (its
+    :func:`available_features`), raising ``ValueError`` that lists the model's features."""
+    names = check_names(names)
+    missing = [n for n in names if n not in available_features(model)]
+    if missing:
+        raise ValueError(
+            f"model {model.name!r} has no feature(s) {missing}; it has: {', '.join(available_features(model))}"
+        )
+    return names
+
+
 def group_columns(model: GaitModel, actuators: Sequence[str]) -> dict[str, list[int]]:
     """Column indices of each of the model's actuator groups in ``actuators`` order."""
     return {g: [actuators.index(j) for j in joints] for g, joints in model.actuator_groups.items()}
@@ -347,10 +359,7 @@ class FeatureMap:
 
     def __init__(self, model: GaitModel, n_knots: int, names: Sequence[str] | None = None):
         self.model = model
-        self.names = check_names(tuple(names) if names is not None else model_features(model))
-        missing = [n for n in self.names if n not in available_features(model)]
-        if missing:
-            raise ValueError(f"model {model.name!r} has no feature(s) {missing}")
+        self.names = check_model_names(model, tuple(names) if names is not None else model_features(model))
         link = model.linkage(model.default_params)
         s, a = len(link.segments), len(link.actuated)
         sizes = {"dt": n_knots, "q": n_knots * s * 3, "v": n_knots * s * 3, "tau": n_knots * a}
@@ -407,10 +416,7 @@ def evaluate(
 ) -> dict[str, float]:
     """Feature values of a trajectory under model ``params``, by name (any of the model's
     :func:`available_features`)."""
-    names = check_names(names)
-    missing = [n for n in names if n not in available_features(model)]
-    if missing:
-        raise ValueError(f"model {model.name!r} has no feature(s) {missing}")
+    names = check_model_names(model, names)
     by_name = set(names) - set(model_features(model))
     fmap = feature_map(model, traj.n_knots, available_features(model) if by_name else None)
     values = dict(zip(fmap.names, fmap(traj, params)))

@@ -22,7 +22,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from ioc_bench.features import available_features, check_names, model_features
+from ioc_bench.features import check_model_names, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
@@ -98,7 +98,9 @@ class ForwardProblem:
         features: Sequence[str] | None = None,
     ):
         self.model = model
-        self.step = StepProblem(model, n_intervals, basis_key(model, features))
+        #: :func:`basis_key` of the basis: None for the model's default, else its names.
+        self.basis = basis_key(model, features)
+        self.step = StepProblem(model, n_intervals, self.basis)
         self._scale = np.ones(self.step.layout.size)
         for name in LOCK_BLOCKS:
             self._scale[self.step.layout.slice(name)] = lock_scale
@@ -379,12 +381,7 @@ def basis_key(model: GaitModel, features: Sequence[str] | None) -> tuple[str, ..
         raise ValueError(f"features must be a sequence of feature names, got the string {features!r}")
     if len(features) == 0:
         raise ValueError(f"features must name at least one feature of model {model.name!r}")
-    names = check_names(tuple(features))
-    missing = [n for n in names if n not in available_features(model)]
-    if missing:
-        raise ValueError(
-            f"model {model.name!r} has no feature(s) {missing}; it has: {', '.join(available_features(model))}"
-        )
+    names = check_model_names(model, tuple(features))
     return None if names == model_features(model) else names
 
 

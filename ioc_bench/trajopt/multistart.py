@@ -18,7 +18,7 @@ from typing import Any
 
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.processes import die_with_parent
-from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, basis_key, get_forward_problem
+from ioc_bench.trajopt.forward_problem import ForwardProblem, SolveRequest, get_forward_problem
 from ioc_bench.trajopt.solution import SolveResult, SolverReport
 
 #: Two feasible optima are the same when their costs agree to this relative tolerance.
@@ -96,8 +96,7 @@ def solve_starts(
 ) -> list[SolveResult]:
     """Solve every request, in ``workers`` processes (default: all cores)."""
     workers = min(len(requests), workers or os.cpu_count() or 1)
-    basis = basis_key(forward.model, forward.features)
-    jobs = [_Job(forward.model.name, forward.n_intervals, r, basis) for r in requests]
+    jobs = [_Job(forward.model.name, forward.n_intervals, r, forward.basis) for r in requests]
     results: list[SolveResult | None] = [None] * len(jobs)
     if workers <= 1:
         for i, job in enumerate(jobs):
@@ -105,7 +104,7 @@ def solve_starts(
             if on_done:
                 on_done(i, results[i])
         return results  # type: ignore[return-value]
-    get_forward_problem(forward.model, forward.n_intervals, basis)  # build once here; forked workers inherit it
+    get_forward_problem(forward.model, forward.n_intervals, forward.basis)  # build once here; forked workers inherit it
     pool = ProcessPoolExecutor(workers, _context(), initializer=die_with_parent, initargs=(os.getpid(),))
     try:
         futures = {pool.submit(_solve_one, job): i for i, job in enumerate(jobs)}

@@ -37,7 +37,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from ioc_bench.features import available_features, check_names, feature_vector, model_features, step_inputs
+from ioc_bench.features import check_model_names, feature_vector, model_features, step_inputs
 from ioc_bench.model.gait_model import GaitModel, GaitParams, GaitRoles, permutation
 from ioc_bench.model.linkage import (
     Linkage,
@@ -193,10 +193,7 @@ class StepProblem:
         self.transcription = HermiteSimpson(n_intervals)
         self.linkage = model.linkage(model.default_params)
         self.roles = model.roles
-        self.features = model_features(model) if features is None else check_names(tuple(features))
-        missing = [n for n in self.features if n not in available_features(model)]
-        if missing:
-            raise ValueError(f"model {model.name!r} has no feature(s) {missing}")
+        self.features = model_features(model) if features is None else check_model_names(model, tuple(features))
         self.seg_names = tuple(s.name for s in self.linkage.segments)
         self.actuators = tuple(j.name for j in self.linkage.actuated)
         self.locks = tuple(j.name for j in self.linkage.locked)

@@ -29,9 +29,10 @@ class Reached(Exception):
 
 def test_forward_problem_exposes_its_basis():
     forward = ForwardProblem(WALKER, N, features=list(RICH))
-    assert forward.features == RICH
+    assert forward.features == RICH and forward.basis == RICH
     assert forward.step.params.blocks["weights"][1] == (len(RICH),)
-    assert ForwardProblem(WALKER, N).features == ALL_FEATURES  # the default is unchanged
+    default = ForwardProblem(WALKER, N)
+    assert default.features == ALL_FEATURES and default.basis is None  # the default is unchanged
 
 
 @pytest.mark.parametrize(
@@ -72,7 +73,7 @@ def test_multistart_jobs_carry_the_basis(monkeypatch, features, key):
         return SimpleNamespace(solve=lambda request: "solved")
 
     monkeypatch.setattr(multistart, "get_forward_problem", fake)
-    forward = SimpleNamespace(model=WALKER, n_intervals=N, features=features)
+    forward = SimpleNamespace(model=WALKER, n_intervals=N, basis=basis_key(WALKER, features))
     assert multistart.solve_starts(forward, ["request"], workers=1) == ["solved"]
     assert seen == [("walker", N, key)]
 
