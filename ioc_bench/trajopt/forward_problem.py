@@ -379,6 +379,8 @@ def basis_key(model: GaitModel, features: Sequence[str] | None) -> tuple[str, ..
         return None
     if isinstance(features, (str, bytes)):
         raise ValueError(f"features must be a sequence of feature names, got the string {features!r}")
+    if not isinstance(features, Sequence):
+        raise ValueError(f"features must be a sequence of feature names, got {type(features).__name__}")
     if len(features) == 0:
         raise ValueError(f"features must name at least one feature of model {model.name!r}")
     names = check_model_names(model, tuple(features))

@@ -41,6 +41,8 @@ def test_forward_problem_exposes_its_basis():
         (("hip", "bogus"), "unknown feature"),
         (("hip", "ankle"), "model 'walker' has no feature"),
         ("hip", "sequence of feature names"),
+        (5, "sequence of feature names, got int"),
+        ({"hip", "knee"}, "sequence of feature names, got set"),
         ((), "at least one feature"),
     ],
 )
