@@ -51,12 +51,13 @@ ENERGY_UNIT = PAPER_GRAVITY
 POWER_UNIT = ENERGY_UNIT / TIME_UNIT
 #: Width eps of the smoothed positive part in the ``work`` feature, W. ``(p + sqrt(p^2 + eps^2)) / 2``
 #: exceeds ``max(p, 0)`` by eps / 2 at p = 0 and by about eps^2 / (4 |p|) away from it, and
-#: its curvature is at most 1 / (2 eps). The walker's joint powers are of order 0.1-1 W
-#: (RMS torques of 0.2-0.35 N m in the demonstrations, joint rates of order 1 rad/s), so the
-#: kink is rounded over a few percent of their range and the feature reads at most
-#: eps / 2 per joint (0.02 W for four joints) above the exact positive work; a smaller eps
-#: sharpens the kink the optimizer's Newton steps have to cross.
-WORK_SMOOTHING = 0.01
+#: its curvature is at most 1 / (2 eps). The width is what lets the optimizer price work
+#: alone: on a person's speed (WBDS01, T05), hip + work and work + collision converge from
+#: 16 of 16 starts in 79-169 iterations at 0.3 W, 15 of 16 in 212-500 at 0.1 W, and none
+#: within 500 at 0.01 W (``docs/spec.md``, "Work and collision features"). The cost is a
+#: feature up to eps / 2 per joint above the exact positive work where a joint's power
+#: crosses zero, against the walker's mean positive work of 0.2-2.6 W.
+WORK_SMOOTHING = 0.3
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,7 @@ from ioc_bench.trajopt.initial_guess import rough_step
 from ioc_bench.trajopt.step_problem import StepProblem
 
 G = 9.81  # the paper's units: a 1 m, 1 kg walker under g = 9.81 m/s^2
-EPS = 0.01  # W, the work feature's smoothing (docs/spec.md, "Work and collision features")
+EPS = 0.3  # W, the work feature's smoothing (docs/spec.md, "Work and collision features")
 ANKLE_FEET = footed_model("ankle-feet", footed_params(**REFERENCE_BODY, feet="ankle"))
 MODELS = (WALKER, COMPASS, ROLLING_FEET, ANKLE_FEET)
 NEW = ("work", "collision")
@@ -139,7 +139,7 @@ def test_work_is_the_smoothed_positive_joint_power_of_the_walker():
     w = traj.v[:, :, 2]
     rate = np.stack([w[:, 1] - w[:, 0], w[:, 3] - w[:, 0], w[:, 2] - w[:, 1], w[:, 4] - w[:, 3]], axis=1)
     power = G**1.5 * traj.tau * rate  # W: N m (x9.81) times rad/s (x sqrt(9.81))
-    assert np.abs(power).max() > 10 * EPS  # the smoothing is not all there is
+    assert np.abs(power).max() > 4 * EPS  # the smoothing is not all there is
     expected = np.sum(positive_part(power)) / (traj.n_knots - 1)  # sum_t dT / T_step with T knots
     assert evaluate(traj, WALKER.default_params, ("work",))["work"] == pytest.approx(expected, rel=1e-12)
 
