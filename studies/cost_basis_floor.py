@@ -104,7 +104,7 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.features import cost_features
+from ioc_bench.bases import get_basis
 from ioc_bench.model.feet import FootedParams, footed_model, footed_params
 from ioc_bench.model.gait_model import GaitModel, GuessShape
 from ioc_bench.model.walker import WALKER
@@ -115,8 +115,8 @@ SUBJECTS = ("WBDS01", "WBDS02", "WBDS03")
 TRIALS = ("T03", "T04", "T05", "T06")
 MODELS = ("walker", "ankle")
 BASES = ("effort", "rich")
-#: What the rich basis adds to the model's effort features.
-RICH_EXTRA = ("work", "collision")
+#: The package's cost basis (``ioc_bench/bases.py``) behind each of the study's labels.
+PACKAGE_BASIS = {"effort": "effort", "rich": "energetics"}
 #: The person's projected step is rejected when its KKT residual exceeds this many times the
 #: residual of a projected optimum (the same test on a step that is optimal for the basis).
 REJECT_FACTOR = 10.0
@@ -133,7 +133,7 @@ FEET = ("foot_stance", "foot_swing")
 
 #: The ankle model's structure (its features); each subject's parameters are passed to it.
 _ANKLE_TEMPLATE = footed_model("study-ankle", FootedParams(feet="ankle", knee="free"))
-_MODEL_FEATURES = {"walker": cost_features(WALKER), "ankle": cost_features(_ANKLE_TEMPLATE)}
+_TEMPLATES = {"walker": WALKER, "ankle": _ANKLE_TEMPLATE}
 
 
 # -- the lattice and the bases (no solver) ------------------------------------------------------
@@ -150,9 +150,9 @@ def lattice_size(n_features: int, divisions: int) -> int:
 
 
 def basis_features(model: str, basis: str) -> tuple[str, ...]:
-    """The features of a cell: the model's effort features, and with ``rich`` work and collision."""
-    effort = _MODEL_FEATURES[model]
-    return effort + RICH_EXTRA if basis == "rich" else effort
+    """The features of a cell: the model's effort features, and with ``rich`` (the package's
+    ``energetics`` basis) work and collision."""
+    return get_basis(PACKAGE_BASIS[basis]).features(_TEMPLATES[model])
 
 
 def unit_solves(model: str, basis: str, divisions: int, starts: int) -> int:

@@ -6,7 +6,8 @@ predictions against the nominal weights, the floor and copying the person (``doc
 T04,T05`` gives the algorithm both speeds' steps at once, for one cost; ``--population
 WBDS02,WBDS03`` fits the cost on those subjects' steps instead and predicts this subject's;
 ``--model rolling-feet`` maps the person's steps to the walker with rolling feet and a free
-knee on the subject's body instead of the paper's walker).
+knee on the subject's body instead of the paper's walker; ``--basis energetics`` weighs
+positive joint work and the heel-strike collision loss beside the efforts).
 With ``--out DIR`` the case runs as any suite's case does (``ioc-bench run``): its result
 ``ALGORITHM/CASE.json`` is written atomically under a lock, resumed if already there, and its
 figure written beside it; without it nothing is written. A whole suite: ``ioc-bench run
@@ -51,6 +52,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--model", default="walker", help=model_help)  # checked by the case: one line, exit 2
     task_help = "what the walker is told: speed (step length free; default) or speed-and-step (the person's too)"
     p.add_argument("--task", default="speed", help=task_help)  # checked by the case
+    basis_help = "cost basis the algorithm weighs: effort (default: hip, knee, dtau) or energetics (+ work, collision)"
+    p.add_argument("--basis", default="effort", help=basis_help)  # checked by the case
     p.add_argument("--suite", help=argparse.SUPPRESS)
     p.add_argument("--data", type=path_arg, help="a folder of the WBDS ASCII layout (default: the shipped subset)")
     p.add_argument("--out", type=path_arg, help="results folder for the case and its figure (default: write nothing)")
@@ -92,7 +95,7 @@ def _spec(args: argparse.Namespace):
     with usage_errors():
         spec = HumanCaseSpec(
             args.subject, train[0], tuple(predict), args.algorithm, config=args.config, also_train=tuple(train[1:]),
-            population=population, model=args.model, task=args.task, data=data, **options,
+            population=population, model=args.model, task=args.task, basis=args.basis, data=data, **options,
         )  # fmt: skip
         make_algorithm(spec.algorithm, **spec.config)  # the name and every config field
         spec.steps()  # every file the case reads, checked before any solve
@@ -105,7 +108,8 @@ def _print(record) -> None:
     reason = f" ({record.reason})" if record.reason else ""
     train = "+".join([record.train, *record.also_train])
     source = f" fitted on {'+'.join(record.population)}" if record.population else ""
-    model = "" if record.model == "walker" else f" ({record.model})"
+    qualifiers = [q for q, plain in ((record.model, "walker"), (record.basis, "effort")) if q != plain]
+    model = f" ({', '.join(qualifiers)})" if qualifiers else ""
     print(f"{record.algorithm} on {record.subject} {train}{source}{model}, task {record.task}: {record.status}{reason}")
     print(f"  weights ({', '.join(record.features)}) = [{w}]  in {record.wall_time:.1f} s, {record.n_solves} solves")
     for code, s in sorted(record.scores.items(), key=lambda item: (item[1].role != "fit", item[0])):

@@ -47,9 +47,9 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.bases import DEFAULT_BASIS, get_basis
 from ioc_bench.cache import cache_dir
 from ioc_bench.checks import check_count, check_seed
-from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_json
 from ioc_bench.human import baselines
 from ioc_bench.human.models import HUMAN_MODELS as HUMAN_MODELS  # the case's models, named here too
@@ -115,6 +115,9 @@ class HumanCaseSpec:
         task: what the walker is told at each speed: ``speed`` (step length free) or
             ``speed-and-step`` (the person's step length too; the default, which every
             record without a task holds).
+        basis: the cost basis the algorithm weighs and the estimate's steps are solved in
+            (:data:`~ioc_bench.bases.COST_BASES`; the reference steps are the effort
+            basis's whatever it is, so every basis is scored against the same ones).
         data: the WBDS folder (None: the shipped subset). Where the data lie, not what
             the case is: not part of its identity.
     """
@@ -131,6 +134,7 @@ class HumanCaseSpec:
     population: tuple[str, ...] = ()
     model: str = "walker"
     task: str = GIVEN_STEP
+    basis: str = DEFAULT_BASIS
     data: str | None = field(default=None, compare=False)
 
     track = TRACK
@@ -158,6 +162,7 @@ class HumanCaseSpec:
         check_human_model(self.model)
         if self.task not in TASKS:
             raise ValueError(f"unknown task {self.task!r}; a human case's task is one of {', '.join(TASKS)}")
+        get_basis(self.basis)
         check_algorithm_name(self.algorithm)
         object.__setattr__(self, "seed", check_seed(self.seed))
         object.__setattr__(self, "starts", check_count(self.starts, "starts", maximum=MAX_STARTS))
@@ -176,7 +181,13 @@ class HumanCaseSpec:
 
     @property
     def features(self) -> tuple[str, ...]:
-        return tuple(cost_features(self.gait_model))
+        """The features the algorithm weighs: the case's basis on its model."""
+        return get_basis(self.basis).features(self.gait_model)
+
+    @property
+    def _solve_basis(self) -> tuple[str, ...] | None:
+        """The basis the estimate's steps are solved in (None: the model's default)."""
+        return None if self.basis == DEFAULT_BASIS else self.features
 
     @property
     def gait_model(self) -> GaitModel:
@@ -212,6 +223,8 @@ class HumanCaseSpec:
             name += f"__model-{self.model}"
         if self.task != GIVEN_STEP:
             name += f"__task-{self.task}"
+        if self.basis != DEFAULT_BASIS:
+            name += f"__basis-{self.basis}"
         options = {"config": dict(self.config), "starts": self.starts, "floor": list(self.floor_weights)}
         if options != {"config": {}, "starts": DEFAULT_STARTS, "floor": list(FLOOR_WEIGHTS)}:
             name += "__cfg" + hashlib.sha256(json.dumps(options, sort_keys=True).encode()).hexdigest()[:8]
@@ -284,7 +297,9 @@ class HumanCaseSpec:
         cold, demos = {}, {}
         for code in dict.fromkeys((*self.scored, *self.sources().values())):
             task = self.task_of(steps[code])
-            cold[code], demos[code] = solve_demo(weights, steps[code], self.starts, self.seed, "estimate", model, task)
+            cold[code], demos[code] = solve_demo(
+                weights, steps[code], self.starts, self.seed, "estimate", model, task, self._solve_basis
+            )
         estimate = dict(cold)
         for code, source in self.sources().items():
             if code != source and cold[source].success:

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench._version import __version__
+from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.checks import json_fields, shown
 from ioc_bench.human.scoring import SKILL_TOL, beats, skill_score
 
@@ -140,7 +141,8 @@ class SpeedScore:
 class HumanResult:
     """One human-track case's record (what its result file holds).
 
-    The identity fields are :class:`~ioc_bench.human.case.HumanCaseSpec`'s; ``status`` is
+    The identity fields are :class:`~ioc_bench.human.case.HumanCaseSpec`'s (a record without
+    a ``basis`` was made in the effort basis); ``status`` is
     the algorithm's, or ``failed`` with ``reason`` (then no speed was scored); ``weights``
     are unit-norm over ``features`` (NaN if failed); ``wall_time`` and ``n_solves`` are the
     algorithm's, ``scoring_time`` the forward solves' after it; ``scores`` by speed code.
@@ -169,6 +171,7 @@ class HumanResult:
     notes: dict[str, Any] = field(default_factory=dict)
     oracle: dict[str, Any] = field(default_factory=dict)
     task: str = GIVEN_STEP
+    basis: str = DEFAULT_BASIS
     track: str = TRACK
     version: str = __version__
 

@@ -4,7 +4,8 @@ A :class:`HumanSuite` gives the cases of one algorithm, as the synthetic suites 
 ``ioc-bench run --suite human --algorithm A`` runs it like any suite. A suite names the gait
 model its cases map the person's steps to (the walker unless it says otherwise; ``--model``
 runs any human suite on another model human steps map to) and the task its walker is given
-(the speed only, unless it says the person's step length too).
+(the speed only, unless it says the person's step length too) and the cost basis its
+algorithm weighs (the effort basis unless it says otherwise).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.human.case import HumanCaseSpec
 from ioc_bench.human.record import GIVEN_STEP, SPEED_ONLY
 
@@ -66,6 +68,7 @@ class HumanSuite:
     designs: tuple[Design, ...]
     model: str = "walker"
     task: str = SPEED_ONLY
+    basis: str = DEFAULT_BASIS
 
     @property
     def weight_sets(self) -> tuple[str, ...]:
@@ -77,7 +80,7 @@ class HumanSuite:
         """The suite's cases for ``algorithm`` (``ValueError`` for a bad name or config)."""
         cfg = dict(config or {})
         specs = [d.case(s, self.subjects, algorithm, cfg) for s in self.subjects for d in self.designs]
-        return [replace(spec, model=model or self.model, task=self.task, data=data) for spec in specs]
+        return [replace(spec, model=model or self.model, task=self.task, basis=self.basis, data=data) for spec in specs]
 
     def __len__(self) -> int:
         return len(self.subjects) * len(self.designs)
@@ -113,6 +116,22 @@ HUMAN_SUITES: dict[str, HumanSuite] = {
             "leave one out, population), the walker given the speed only",
             SHIPPED_SUBJECTS,
             DESIGNS,
+        ),
+        HumanSuite(
+            "human-energetics",
+            "the human track's cases with the energetics cost basis (the efforts, positive joint work and the "
+            "heel-strike collision loss) instead of the effort basis",
+            SHIPPED_SUBJECTS,
+            DESIGNS,
+            basis="energetics",
+        ),
+        HumanSuite(
+            "human-energetics-fits",
+            "the energetics cost basis fitted at each shipped subject's T05, predicting T04 and T06: a quick look "
+            "at what the richer basis fits and predicts",
+            SHIPPED_SUBJECTS,
+            (Design(("T05",), ("T04", "T06")),),
+            basis="energetics",
         ),
         HumanSuite(
             "human-given-step",

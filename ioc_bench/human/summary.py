@@ -18,7 +18,9 @@ Over a run's records (:class:`~ioc_bench.human.record.HumanResult`):
 
 Records of different gait models (``HumanResult.model``) are never pooled: each model has
 its own run floors, rows and weight spreads, and a row of a model other than the walker
-names it beside the algorithm.
+names it beside the algorithm. Records of different cost bases (``HumanResult.basis``) have
+their own rows and weight spreads (a row outside the effort basis names its basis too) and
+share the run floors of their model and task: their reference steps are the same.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.human.record import HumanResult
 from ioc_bench.human.scoring import skill_score
 
@@ -51,14 +54,18 @@ def summarize(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
     """One row per (algorithm, model, task, design), by algorithm, then model (the walker
     first), task, then one speed, two, ..., population; skills against the run floors of the
     row's model and task."""
-    groups: dict[tuple[str, str, str, str], list[HumanResult]] = {}
+    groups: dict[tuple[str, str, str, str, str], list[HumanResult]] = {}
     for record in records:
-        groups.setdefault((record.algorithm, record.model, record.task, record.design), []).append(record)
+        groups.setdefault((record.algorithm, record.basis, record.model, record.task, record.design), []).append(record)
     floors = {
-        (m, t): run_floors([r for r in records if (r.model, r.task) == (m, t)]) for _, m, t, _ in groups
+        (m, t): run_floors([r for r in records if (r.model, r.task) == (m, t)]) for _, _, m, t, _ in groups
     }  # fmt: skip
-    order = sorted(groups, key=lambda key: (key[0], key[1] != "walker", key[1], key[2], _design_rank(groups[key][0])))
-    return [_row(*key, groups[key], floors[key[1], key[2]]) for key in order]
+
+    def rank(key: tuple[str, str, str, str, str]) -> tuple:
+        algorithm, basis, model, task, _ = key
+        return (algorithm, basis != DEFAULT_BASIS, basis, model != "walker", model, task, _design_rank(groups[key][0]))
+
+    return [_row(*key, groups[key], floors[key[2], key[3]]) for key in sorted(groups, key=rank)]
 
 
 #: The training designs in the order a board lists them (:func:`~ioc_bench.human.record.design_of`;
@@ -75,7 +82,9 @@ def _design_rank(record: HumanResult) -> tuple[bool, int, int]:
     return (bool(record.population), len(record.also_train), -len(record.predict))
 
 
-def _row(algorithm: str, model: str, task: str, design: str, cases: Sequence[HumanResult], floors) -> dict[str, Any]:
+def _row(
+    algorithm: str, basis: str, model: str, task: str, design: str, cases: Sequence[HumanResult], floors
+) -> dict[str, Any]:
     fits = [s.rmse_deg for r in cases for s in r.fits()]
     preds = [(r, s) for r in cases for s in r.predictions()]
     scores = [s for _, s in preds]
@@ -89,6 +98,7 @@ def _row(algorithm: str, model: str, task: str, design: str, cases: Sequence[Hum
     ]
     return {
         "algorithm": algorithm,
+        "basis": basis,
         "model": model,
         "task": task,
         "design": design,
@@ -125,12 +135,13 @@ def baseline_rows(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
     """The model-free baselines over each (model, task, design)'s predictions of a person's
     own steps (those of one algorithm: every algorithm predicts the same speeds): copy, the
     population's mean change, interpolation, and the power law of step length."""
-    first: dict[tuple[str, str, str], str] = {}
+    first: dict[tuple[str, str, str], tuple[str, str]] = {}
     for r in records:
-        first.setdefault((r.model, r.task, r.design), r.algorithm)
+        first.setdefault((r.model, r.task, r.design), (r.algorithm, r.basis))
     rows = []
-    for (model, task, design), algorithm in first.items():
-        scores = [s for r in records if (r.algorithm, r.model, r.task, r.design) == (algorithm, model, task, design)
+    for (model, task, design), (algorithm, basis) in first.items():
+        key = (algorithm, basis, model, task, design)
+        scores = [s for r in records if (r.algorithm, r.basis, r.model, r.task, r.design) == key
                   for s in r.predictions() if s.copy_from]  # fmt: skip
         if not scores:
             continue
@@ -162,20 +173,21 @@ def pooled_r2(pairs: Sequence[tuple[float, float]]) -> float:
 
 
 def weight_spread(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
-    """Per (algorithm, model, task, subject): the weights inferred at each single training
+    """Per (algorithm, basis, model, task, subject): the weights inferred at each single training
     speed, the largest distance between two of them and each weight's range (needs two or more)."""
-    groups: dict[tuple[str, str, str, str], dict[str, tuple[float, ...]]] = {}
+    groups: dict[tuple[str, str, str, str, str], dict[str, tuple[float, ...]]] = {}
     for r in records:
         if r.design == "one speed" and not r.failed:
-            groups.setdefault((r.algorithm, r.model, r.task, r.subject), {})[r.train] = r.weights
+            groups.setdefault((r.algorithm, r.basis, r.model, r.task, r.subject), {})[r.train] = r.weights
     rows = []
-    for (algorithm, model, task, subject), by_speed in groups.items():
+    for (algorithm, basis, model, task, subject), by_speed in groups.items():
         w = np.array(list(by_speed.values()))
         if len(w) < 2:
             continue
         distance = max(float(np.linalg.norm(a - b)) for a, b in combinations(w, 2))
         rows.append({
-            "algorithm": algorithm, "model": model, "task": task, "subject": subject, "speeds": sorted(by_speed),
+            "algorithm": algorithm, "basis": basis, "model": model, "task": task, "subject": subject,
+            "speeds": sorted(by_speed),
             "largest_distance": distance,
             "ranges": [[float(lo), float(hi)] for lo, hi in zip(w.min(axis=0), w.max(axis=0))],
         })  # fmt: skip
@@ -248,8 +260,9 @@ def _spread_lines(records: Sequence[HumanResult]) -> list[str]:
     spread = weight_spread(records)
     if not spread:
         return []
-    features = next((r.features for r in records), ())
-    lines = ["", f"Weights inferred at each single training speed ({', '.join(features)}):", ""]
+    bases = dict.fromkeys((r.basis, tuple(r.features)) for r in records)
+    named = "; ".join(f"{b}: {', '.join(f)}" if len(bases) > 1 else ", ".join(f) for b, f in bases)
+    lines = ["", f"Weights inferred at each single training speed ({named}):", ""]
     rows = [[_algorithm(row), row["task"], row["subject"], ", ".join(row["speeds"]), f"{row['largest_distance']:.3f}",
              ", ".join(f"{lo:.2f}-{hi:.2f}" for lo, hi in row["ranges"])] for row in spread]  # fmt: skip
     return lines + _table(["algorithm", "task", "subject", "speeds", "largest distance", "range of each weight"], rows)
@@ -272,8 +285,10 @@ def _count(n: int, of: int) -> str:
 
 
 def _algorithm(row: Mapping[str, Any]) -> str:
-    """The algorithm's cell: its name, and the model's when it is not the walker."""
-    return row["algorithm"] if row["model"] == "walker" else f"{row['algorithm']} ({row['model']})"
+    """The algorithm's cell: its name, then the model's when it is not the walker and the
+    basis's when it is not the effort basis."""
+    qualifiers = [q for q, plain in ((row["model"], "walker"), (row["basis"], DEFAULT_BASIS)) if q != plain]
+    return f"{row['algorithm']} ({', '.join(qualifiers)})" if qualifiers else row["algorithm"]
 
 
 def _failures(row: Mapping[str, Any]) -> str:

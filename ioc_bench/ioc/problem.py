@@ -32,7 +32,7 @@ from typing import Protocol
 import numpy as np
 
 from ioc_bench.checks import check_non_negative
-from ioc_bench.features import check_names, evaluate, model_features
+from ioc_bench.features import available_features, check_model_names, evaluate, model_features
 from ioc_bench.ioc.forward_view import ForwardView
 from ioc_bench.ioc.oracle import OracleSolution, OracleStats
 from ioc_bench.ioc.smoothing import LADDER as SMOOTHING_LADDER
@@ -73,6 +73,14 @@ class ReferenceStore(Protocol):
     def put(self, key: str, point: StartPoint, report: SolverReport, solves: int, seconds: float) -> None: ...
 
 
+def forward_basis(model: GaitModel, features: Sequence[str]) -> tuple[str, ...] | None:
+    """The basis of the forward problem an IOC over ``features`` solves: the model's default
+    basis (None), with the features outside it that ``features`` names, in
+    :func:`~ioc_bench.features.available_features` order."""
+    extra = [f for f in available_features(model) if f in features and f not in model_features(model)]
+    return (*model_features(model), *extra) if extra else None
+
+
 class IOCProblem:
     """One IOC task: recover weights over :attr:`features` from :attr:`observed`.
 
@@ -85,7 +93,9 @@ class IOCProblem:
     Args:
         observed: the observed step (the IOC's only view of the demonstration; a full
             :class:`Trajectory` is reduced to what is measured of it).
-        features: names of the features the IOC may weigh (the model's).
+        features: names of the features the IOC may weigh: any the model has
+            (:func:`~ioc_bench.features.available_features`; those outside its default basis,
+            such as ``work``, are added to the forward problem's basis).
         params: the model parameters the IOC believes in.
         task: the task the IOC believes in.
         seed: seed for the algorithm's random choices (use :meth:`rng`).
@@ -122,12 +132,10 @@ class IOCProblem:
         self.model = model or model_of(params)
         if not isinstance(params, type(self.model.default_params)):
             raise ValueError(f"params must be {type(self.model.default_params).__name__} for model {self.model.name!r}")
-        self.features = check_names(tuple(features))
-        missing = [f for f in self.features if f not in model_features(self.model)]
-        if missing:
-            raise ValueError(f"model {self.model.name!r} has no feature(s) {missing}")
+        self.features = check_model_names(self.model, tuple(features))
         self.params, self.task, self.seed = params, task, int(seed)
-        self._forward = get_forward_problem(self.model, (observed.n_knots - 1) // 2)
+        basis = forward_basis(self.model, self.features)
+        self._forward = get_forward_problem(self.model, (observed.n_knots - 1) // 2, basis)
         n_act = len(self._forward.actuators)
         if observed.q.shape[1:] != (len(self._forward.step.seg_names), 3):
             raise ValueError(

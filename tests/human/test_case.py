@@ -54,6 +54,7 @@ def test_case_specs_refuse_bad_input() -> None:
         ({"model": "compass"}, "human steps map to"),
         ({"floor_weights": ("1,x,0",)}, "1,x,0"),
         ({"task": "step"}, "unknown task 'step'"),
+        ({"basis": "rich"}, "unknown cost basis 'rich'"),
     ]
     for change, message in bad:
         fields = {"subject": "WBDS01", "train": "T05", "predict": ("T04",), "algorithm": "bilevel"} | change
@@ -274,3 +275,40 @@ def test_the_weight_spread_over_single_speed_training() -> None:
     (row,) = weight_spread(cases)
     assert row["speeds"] == ["T05", "T06"] and row["largest_distance"] == pytest.approx(np.linalg.norm([0.6, 0.2, 0.8]))
     assert row["ranges"][0] == [0.0, 0.6]
+
+
+def test_a_case_in_another_basis_weighs_its_features_and_names_it() -> None:
+    case = HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel", task="speed", basis="energetics")
+    assert case.features == ("hip", "knee", "dtau", "work", "collision")
+    assert case.key == "bilevel/WBDS01__train-T05__predict-T04__seed0__task-speed__basis-energetics"
+    effort = dataclasses.replace(case, basis="effort")
+    assert [r.key for r in case.needs()] == [r.key for r in effort.needs()]  # the same reference steps
+
+
+def test_a_record_keeps_its_basis_and_one_without_a_basis_is_the_effort_basis() -> None:
+    case = HumanCaseSpec("WBDS01", "T05", ("T04",), "a", basis="energetics")
+    record = dataclasses.replace(_record(case, {"T05": 6.0, "T04": 8.0}), weights=(0.6, 0.8, 0.0, 0.0, 0.0))
+    again = parse_record(json.loads(json.dumps(record.to_dict())))
+    assert again.basis == "energetics" and again.features == case.features
+    old = _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "a"), {"T05": 6.0, "T04": 8.0}).to_dict()
+    del old["basis"]
+    assert parse_record(json.loads(json.dumps(old))).basis == "effort"
+    wrong = record.to_dict() | {"features": ["hip", "knee", "dtau"]}
+    with pytest.raises(ValueError, match="features"):
+        parse_record(json.loads(json.dumps(wrong)))
+
+
+def test_the_summary_keeps_each_bases_records_apart() -> None:
+    effort = _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "a"), {"T05": 7.0, "T04": 6.0})
+    energetics = dataclasses.replace(
+        _record(HumanCaseSpec("WBDS01", "T05", ("T04",), "a", basis="energetics"), {"T05": 5.0, "T04": 4.0}),
+        weights=(0.6, 0.8, 0.0, 0.0, 0.0),
+    )
+    rows = summarize([energetics, effort])
+    assert [(r["algorithm"], r["basis"], r["prediction_rmse_deg"]) for r in rows] == [
+        ("a", "effort", 6.0),
+        ("a", "energetics", 4.0),
+    ]
+    table = markdown([effort, energetics])
+    assert "| a | speed-and-step | one speed | 7.00 | 6.00 |" in table
+    assert "| a (energetics) | speed-and-step | one speed | 5.00 | 4.00 |" in table

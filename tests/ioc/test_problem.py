@@ -74,3 +74,28 @@ def test_a_projection_that_fails_again_is_the_reference_that_failed(nominal_demo
     calls = _failing_cold_projection(problem, always=True)
     reference = problem.reference()
     assert not reference.success and reference.report.status == "Restoration_Failed" and len(calls) == 2
+
+
+def test_a_problem_may_weigh_features_outside_the_default_basis(nominal_demo):
+    """Work and collision are weighed by name: the problem's forward basis holds them, its
+    features are the evaluated ones, and weighing work moves the optimum to less work."""
+    from ioc_bench.features import evaluate, model_features
+    from ioc_bench.ioc.problem import forward_basis
+    from ioc_bench.model.walker import WALKER
+
+    features = ("hip", "knee", "dtau", "work", "collision")
+    assert forward_basis(WALKER, features) == (*model_features(WALKER), "work", "collision")
+    assert forward_basis(WALKER, COST_FEATURES) is None
+    problem = IOCProblem(nominal_demo.trajectory, features, nominal_demo.params, nominal_demo.task)
+    values = evaluate(nominal_demo.trajectory, nominal_demo.params, features)
+    np.testing.assert_allclose(problem.features_of(nominal_demo.trajectory), [values[f] for f in features])
+    mine = problem.optimize(np.array([1.0, 1.0, 1.0, 20.0, 0.0]), start=nominal_demo.trajectory)
+    assert mine.success
+    there = evaluate(mine.trajectory, nominal_demo.params, features)
+    np.testing.assert_allclose(mine.features, [there[f] for f in features], rtol=1e-9)
+    assert there["work"] < 0.9 * values["work"]  # the nominal step is not this cost's optimum
+
+
+def test_a_feature_the_model_lacks_is_refused_naming_the_models_features(nominal_demo):
+    with pytest.raises(ValueError, match=r"has no feature.*'ankle'.*it has: hip, knee"):
+        IOCProblem(nominal_demo.trajectory, ("hip", "ankle"), nominal_demo.params, nominal_demo.task)

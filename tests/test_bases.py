@@ -1,0 +1,35 @@
+"""Cost bases: each basis's features on every model, and names refused with the valid ones."""
+
+from __future__ import annotations
+
+import pytest
+
+from ioc_bench.bases import COST_BASES, DEFAULT_BASIS, get_basis
+from ioc_bench.features import FEATURES, cost_features
+from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET
+from ioc_bench.model.feet import FootedParams, footed_model
+from ioc_bench.model.walker import WALKER
+
+ANKLE = footed_model("ankle-basis", FootedParams(feet="ankle", knee="free"))
+
+
+def test_the_default_basis_is_each_models_effort_features() -> None:
+    for model in (WALKER, COMPASS, ROLLING_FEET, ANKLE):
+        assert get_basis(DEFAULT_BASIS).features(model) == cost_features(model)
+
+
+def test_the_energetics_basis_adds_work_and_collision_after_the_efforts() -> None:
+    energetics = get_basis("energetics")
+    assert energetics.features(WALKER) == ("hip", "knee", "dtau", "work", "collision")
+    assert energetics.features(COMPASS) == ("hip", "dtau", "work", "collision")  # no knee to weigh
+    assert energetics.features(ANKLE) == ("hip", "knee", "ankle", "dtau", "work", "collision")
+
+
+def test_every_basis_names_features_that_exist() -> None:
+    assert all(f in FEATURES for basis in COST_BASES.values() for f in basis.extra)
+
+
+@pytest.mark.parametrize("name", ["rich", "", None, 3])
+def test_an_unknown_basis_is_refused_with_the_valid_names(name) -> None:
+    with pytest.raises(ValueError, match=r"unknown cost basis .*valid: effort, energetics"):
+        get_basis(name)
