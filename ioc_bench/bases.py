@@ -9,10 +9,14 @@ ankle effort). What a basis holds and why is in ``docs/spec.md`` ("Cost bases").
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ioc_bench.features import available_features, cost_features
+import numpy as np
+
+from ioc_bench.features import available_features, cost_features, model_features
 from ioc_bench.model.gait_model import GaitModel
+from ioc_bench.weights import WeightSpec, normalize, parse_weights, weight_sets
 
 
 @dataclass(frozen=True)
@@ -27,6 +31,25 @@ class CostBasis:
         """The basis's features on ``model``, in weight order."""
         own = available_features(model)
         return (*cost_features(model), *(f for f in self.extra if f in own))
+
+    def weight_sets(self, model: GaitModel) -> dict[str, tuple[float, ...]]:
+        """The named weight sets over the basis's features on ``model`` (``nominal`` and one
+        ``penalize-<feature>`` each, :func:`~ioc_bench.weights.weight_sets`)."""
+        return weight_sets(self.features(model))
+
+    def parse_weights(self, spec: WeightSpec, model: GaitModel) -> np.ndarray:
+        """Unit weights over the basis's features on ``model`` from one of its set names or
+        anything :func:`~ioc_bench.weights.parse_weights` reads (numbers over the model's
+        effort features leave the others at 0)."""
+        sets = self.weight_sets(model)
+        if isinstance(spec, str) and spec in sets:
+            return normalize(sets[spec])
+        try:
+            return parse_weights(spec, self.features(model))
+        except ValueError as exc:
+            if isinstance(spec, str) and "unknown weight set" in str(exc):
+                raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(sets)}") from None
+            raise
 
 
 #: The basis every track uses unless told otherwise: the paper's effort features.
@@ -50,3 +73,11 @@ def get_basis(name: str) -> CostBasis:
     if not isinstance(name, str) or name not in COST_BASES:
         raise ValueError(f"unknown cost basis {name!r}; valid: {', '.join(COST_BASES)}")
     return COST_BASES[name]
+
+
+def forward_basis(model: GaitModel, features: Sequence[str]) -> tuple[str, ...] | None:
+    """The basis of the forward problem an IOC over ``features`` solves: the model's default
+    basis (None), with the features outside it that ``features`` names, in
+    :func:`~ioc_bench.features.available_features` order."""
+    extra = [f for f in available_features(model) if f in features and f not in model_features(model)]
+    return (*model_features(model), *extra) if extra else None

@@ -35,16 +35,16 @@ def synthetic_result(
     failed: bool = False,
     config: dict | None = None,
     weight_error: float = 0.01,
+    basis: str = "effort",
 ):
     """A plausible case result without running anything (an estimate ``weight_error`` from the truth)."""
     import math
 
-    from ioc_bench.bench.case import CaseResult
-    from ioc_bench.bench.conditions import get_condition
-    from ioc_bench.weights import parse_weights
+    from ioc_bench.bench.case import CaseResult, CaseSpec
 
-    features = get_condition(condition).features
-    true = tuple(float(x) for x in parse_weights(weight_set, features))
+    spec = CaseSpec(algorithm, weight_set, condition, seed, basis=basis)
+    features = spec.features
+    true = tuple(float(x) for x in spec.true_over_features())
     estimate = estimate_with_error(true, weight_error)
     history = tuple({"weights": list(estimate), "trajectory_error": 1e-4 / (i + 1), "cost_gap": -0.1} for i in range(3))
     return CaseResult(
@@ -67,4 +67,5 @@ def synthetic_result(
         config=dict(config or {}),
         demo_features={"hip": 1e-3, "knee": 1e-3, "dtau": 1e-4},
         demo_speed=0.27,
+        basis=basis,
     )

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench._version import __version__
+from ioc_bench.bases import DEFAULT_BASIS, forward_basis, get_basis
 from ioc_bench.bench.conditions import Condition, get_condition
 from ioc_bench.bench.demos import DemoRequest, ReferenceCache, demonstration
 from ioc_bench.bench.observe import observe
@@ -33,7 +34,6 @@ from ioc_bench.bench.transfer import transfer, transfer_task
 from ioc_bench.cache import check_cache
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
-from ioc_bench.features import cost_features
 from ioc_bench.ioc.algorithm import IOCResult
 from ioc_bench.ioc.fit import Fit, fit
 from ioc_bench.ioc.oracle import OracleSolution
@@ -49,7 +49,7 @@ from ioc_bench.ioc.registry import (
 from ioc_bench.metrics import trajectory_error
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitModel, GaitParams
-from ioc_bench.weights import WEIGHT_SETS, WeightSpec, parse_weights
+from ioc_bench.weights import WEIGHT_SETS, WeightSpec, full_weights, parse_weights
 
 #: Stream of the observation-noise generator (kept apart from the algorithm's streams).
 NOISE_STREAM = 7
@@ -75,6 +75,8 @@ class CaseSpec:
         seed: the case's seed (demonstration multi-start, observation noise, algorithm).
         config: the algorithm's config overrides (canonical: fields that differ from defaults).
         model: the gait model's name.
+        basis: the cost basis the true weights are over and the IOC weighs
+            (:data:`~ioc_bench.bases.COST_BASES`; its features after the condition's).
     """
 
     algorithm: str
@@ -83,7 +85,8 @@ class CaseSpec:
     seed: int
     config: Mapping[str, Any] = field(default_factory=dict)
     model: str = DEFAULT_MODEL
-    #: (C,) unit true weights over the model's cost features, parsed once from ``weight_set``.
+    basis: str = DEFAULT_BASIS
+    #: (C,) unit true weights over the basis's features, parsed once from ``weight_set``.
     true_weights: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -97,8 +100,9 @@ class CaseSpec:
         object.__setattr__(self, "_model", gait_model)
         if not isinstance(self.weight_set, str):
             raise ValueError(f"a case's weight set is a name or 'hip,knee,dtau' text, got {self.weight_set!r}")
-        object.__setattr__(self, "true_weights", parse_weights(self.weight_set, cost_features(gait_model)))
-        if not any(f in cost_features(gait_model) for f in cond.features_for(gait_model)):
+        basis = get_basis(self.basis)
+        object.__setattr__(self, "true_weights", basis.parse_weights(self.weight_set, gait_model))
+        if not any(f in self.cost_features for f in self.features):
             raise ValueError(f"condition {cond.name!r} offers model {self.model!r} none of its cost features")
         object.__setattr__(self, "seed", check_seed(self.seed))
         config = check_config(self.config)
@@ -115,13 +119,23 @@ class CaseSpec:
         return self._model  # type: ignore[attr-defined]
 
     @property
+    def cost_features(self) -> tuple[str, ...]:
+        """The features the true weights are over: the case's basis on its model."""
+        return get_basis(self.basis).features(self.gait_model)
+
+    @property
     def features(self) -> tuple[str, ...]:
-        """The features the IOC may weigh in this case."""
-        return self.condition_def.features_for(self.gait_model)
+        """The features the IOC may weigh in this case: the condition's, then the basis's others."""
+        return self.condition_def.features_for(self.gait_model, self.cost_features)
+
+    @property
+    def demo_basis(self) -> tuple[str, ...] | None:
+        """The basis the demonstrations are solved in (None: the model's default)."""
+        return forward_basis(self.gait_model, self.cost_features)
 
     def true_over_features(self) -> np.ndarray:
         """The unit true weights over :attr:`features` (features outside the cost set get 0)."""
-        cost = cost_features(self.gait_model)
+        cost = self.cost_features
         return unit(np.array([self.true_weights[cost.index(f)] if f in cost else 0.0 for f in self.features]))
 
     def demo_request(self, params: GaitParams | None = None) -> DemoRequest:
@@ -134,7 +148,14 @@ class CaseSpec:
         params = self.gait_model.default_params if params is None else params
         cond = self.condition_def
         return [
-            DemoRequest(self.true_weights, params, cond.demo_task(k), self.seed, self.model)
+            DemoRequest(
+                self.true_weights_over(self.demo_basis),
+                params,
+                cond.demo_task(k),
+                self.seed,
+                self.model,
+                features=self.demo_basis,
+            )
             for k in range(len(cond.speeds))
         ]
 
@@ -146,7 +167,15 @@ class CaseSpec:
         if task is None or len(self.condition_def.speeds) > 1:
             return None
         params = self.gait_model.default_params if params is None else params
-        return DemoRequest(self.true_weights, params, task, self.seed, self.model)
+        basis = self.demo_basis
+        return DemoRequest(self.true_weights_over(basis), params, task, self.seed, self.model, features=basis)
+
+    def true_weights_over(self, basis: Sequence[str] | None) -> np.ndarray:
+        """The true weights as a demonstration request takes them: over the cost features for
+        the default basis (None), else over ``basis`` (the others 0)."""
+        if basis is None:
+            return self.true_weights
+        return full_weights(self.true_weights, self.cost_features, basis)
 
     # -- the case protocol (:mod:`ioc_bench.bench.protocol`) ---------------------------------------
     track = "synthetic"
@@ -176,6 +205,8 @@ class CaseSpec:
         name = f"{_safe(self.weight_set)}__{self.condition}__seed{self.seed}"
         if self.model != DEFAULT_MODEL:
             name += f"__model-{self.model}"
+        if self.basis != DEFAULT_BASIS:
+            name += f"__basis-{self.basis}"
         if self.config:
             name += f"__cfg{config_digest(self.config)}"
         return f"{self.algorithm}/{name}"
@@ -217,6 +248,7 @@ class CaseResult:
         demo_speed: speed of the demonstration.
         family: the algorithm's family (``cutting-plane``, ``inverse-kkt``, ``bilevel``, ...).
         model: the gait model.
+        basis: the cost basis of the true weights (a record without one: the effort basis).
         uncertainty: the algorithm's region for the weights (:class:`WeightRegion` as a
             dict), None if it reports none.
         covered: whether that region holds the true weights (None without a region).
@@ -259,6 +291,7 @@ class CaseResult:
     transfer: dict[str, Any] | None = None
     scoring_time: float = 0.0
     model_fit: dict[str, Any] | None = None
+    basis: str = DEFAULT_BASIS
     version: str = __version__
 
     @property
@@ -295,6 +328,7 @@ def run_case(
     demo: Demonstration | None = None,
     *,
     model: str | GaitModel = DEFAULT_MODEL,
+    basis: str = DEFAULT_BASIS,
 ) -> CaseResult:
     """Run and score one case.
 
@@ -308,6 +342,8 @@ def run_case(
         demo: the true demonstration, if already at hand (else from the cache, or solved);
             it must be the case's (its weights, speed and model), or ``ValueError``.
         model: the gait model, by name or object (keyword only; default the walker).
+        basis: the cost basis of the true weights and of the IOC (keyword only; default
+            the effort basis, :data:`~ioc_bench.bases.COST_BASES`).
 
     Raises:
         ValueError: bad input (unknown algorithm, model, condition or weight set, a bad
@@ -316,10 +352,9 @@ def run_case(
     """
     name = model.name if isinstance(model, GaitModel) else model
     if not isinstance(weights, str):
-        weights = weight_set_label(
-            parse_weights(weights, cost_features(get_model(name))) if _is_mapping(weights) else weights
-        )
-    spec = CaseSpec(algorithm, weights, condition, check_seed(seed), check_config(config), name)
+        features = get_basis(basis).features(get_model(name))
+        weights = weight_set_label(parse_weights(weights, features) if _is_mapping(weights) else weights)
+    spec = CaseSpec(algorithm, weights, condition, check_seed(seed), check_config(config), name, basis)
     make_algorithm(spec.algorithm, **spec.config)  # the name and every config field, before any work
     return run_spec(spec, params, demo)
 
@@ -411,7 +446,7 @@ def _check_demo(spec: CaseSpec, request: DemoRequest, demo: Demonstration) -> No
     """Refuse a demonstration that is not this case's (else it would be scored against the wrong truth)."""
     if demo.model != spec.model:
         raise ValueError(f"demo is of model {demo.model!r}, the case's model is {spec.model!r}")
-    cost = cost_features(spec.gait_model)
+    cost = spec.cost_features
     given = unit(np.array([demo.weights.get(f, 0.0) for f in cost]))
     if not np.allclose(given, spec.true_weights, atol=1e-9) or any(
         demo.weights.get(f, 0.0) for f in demo.weights if f not in cost
@@ -449,6 +484,7 @@ def _identity(spec: CaseSpec) -> dict[str, Any]:
         "condition": spec.condition,
         "seed": spec.seed,
         "model": spec.model,
+        "basis": spec.basis,
         "features": spec.features,
         "true_weights": tuple(float(x) for x in spec.true_over_features()),
     }

@@ -11,9 +11,10 @@ Add a condition by adding a :class:`Condition` to :data:`CONDITIONS` (or
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES, model_features
+from ioc_bench.features import ALL_FEATURES, COST_FEATURES, available_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.task import FAST_SPEED, NOMINAL_SPEED, Task
 
@@ -73,10 +74,12 @@ class Condition:
     def ioc_params(self, truth: GaitParams) -> GaitParams:
         return truth if self.ioc_leg_mass == 1.0 else truth.with_leg_mass_scale(self.ioc_leg_mass)
 
-    def features_for(self, model: GaitModel) -> tuple[str, ...]:
-        """The features the IOC may weigh for ``model``: this condition's, those it has."""
-        own = model_features(model)
-        return tuple(f for f in self.features if f in own)
+    def features_for(self, model: GaitModel, extra: Sequence[str] = ()) -> tuple[str, ...]:
+        """The features the IOC may weigh for ``model``: this condition's, then ``extra`` (a
+        case's cost basis beyond the model's efforts), those the model has."""
+        own = available_features(model)
+        names = [f for f in self.features if f in own]
+        return (*names, *(f for f in extra if f in own and f not in names))
 
 
 def _noise(percent: float) -> Condition:
@@ -130,6 +133,11 @@ CONDITIONS: dict[str, Condition] = {
         Condition("mass", "IOC model: legs 10 % heavier, torso lighter", ioc_leg_mass=1.1, axis="mass", severity=10),
         Condition("speed", "IOC task 10 % faster than the demonstration", ioc_speed=1.1, axis="speed", severity=10),
         Condition("distractor", "3 distractor features added (true weight 0)", features=ALL_FEATURES),
+        Condition(
+            "distractor-energetics",
+            "positive joint work and the heel-strike collision loss added (true weight 0)",
+            features=(*COST_FEATURES, "work", "collision"),
+        ),
         Condition(
             "multi-speed",
             "two trials of one subject, at 0.27 and 0.34, exact: one weight vector for both",

@@ -50,6 +50,8 @@ class DemoRequest:
         model: the gait model's name.
         starts: multi-start size.
         n_intervals: Hermite-Simpson intervals.
+        features: the forward problem's basis ``weights`` are over (None: the model's
+            default basis, :func:`~ioc_bench.features.model_features`).
     """
 
     weights: np.ndarray
@@ -59,6 +61,7 @@ class DemoRequest:
     model: str = "walker"
     starts: int = DEFAULT_STARTS
     n_intervals: int = DEFAULT_INTERVALS
+    features: tuple[str, ...] | None = None
 
     @cached_property
     def key(self) -> str:
@@ -76,6 +79,8 @@ class DemoRequest:
             payload["step_length"] = self.task.step_length
         if self.model != "walker":
             payload["model"] = self.model
+        if self.features is not None:
+            payload["features"] = list(self.features)
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
 
     def __eq__(self, other: object) -> bool:
@@ -98,6 +103,7 @@ class DemoRequest:
             n_intervals=self.n_intervals,
             workers=workers,
             model=get_model(self.model),
+            features=self.features,
         )
 
 

@@ -26,17 +26,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ioc_bench.bases import get_basis
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.conditions import CONDITIONS
 from ioc_bench.bench.protocol import Record
 from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import RESAMPLES, stratified_mean_ci
-from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write_many, json_text
 from ioc_bench.model.catalogue import MODELS, get_model
 from ioc_bench.paths import PathError, check_output_dir, check_output_file
-from ioc_bench.weights import WEIGHT_SETS, penalised_feature, weight_sets
+from ioc_bench.weights import WEIGHT_SETS, penalised_feature
 
 #: The files a leaderboard is written as, in its output folder.
 FILES = ("README.md", "leaderboard.json")
@@ -106,7 +106,7 @@ def penalised_is_largest(result: CaseResult) -> bool | None:
 def row_condition(result: CaseResult) -> str:
     """The row a result belongs to: its condition, apart for weight sets other than the
     model's named ones (the ``unseen`` suite), so a row never mixes the two designs."""
-    named = weight_sets(cost_features(get_model(result.model))) if result.model in MODELS else WEIGHT_SETS
+    named = get_basis(result.basis).weight_sets(get_model(result.model)) if result.model in MODELS else WEIGHT_SETS
     return result.condition if result.weight_set in named else f"{result.condition}, other weight sets"
 
 

@@ -1,7 +1,7 @@
 """Result files: one JSON per case, named by the case, written atomically.
 
-Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__model-<model>][__cfg<hash>].json``
-(the walker, the default model, is named by no model part).
+Layout: ``<results>/<algorithm>/<weight_set>__<condition>__seed<k>[__model-<model>][__basis-<basis>][__cfg<hash>].json``
+(the walker, the default model, and the effort basis, the default basis, are named by no part).
 The config is part of a case's identity in its canonical form (the fields that differ
 from the algorithm's defaults, :func:`~ioc_bench.ioc.registry.canonical_config`): a
 config that only spells out defaults names the same file as no config at all.
@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.bench.case import CaseResult, CaseSpec, config_digest
 from ioc_bench.bench.protocol import Case, Record, Track
 from ioc_bench.checks import check_seed, json_fields, load_json, one_line, shown
@@ -45,7 +46,7 @@ from ioc_bench.processes import hold_across_fork
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``; human cases join speeds and subjects by ``+``).
 RESULT_NAME = re.compile(
-    r"[A-Za-z0-9._+-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__task-[a-z-]+)?(__cfg[0-9a-f]{8})?\.json"
+    r"[A-Za-z0-9._+-]+__[A-Za-z0-9._+-]+__seed[0-9]+(__model-[a-z0-9_-]+)?(__task-[a-z-]+)?(__basis-[a-z0-9-]+)?(__cfg[0-9a-f]{8})?\.json"
 )
 #: Fields a result file may carry besides :class:`CaseResult`'s (written by :func:`write_result`).
 _FILE_FIELDS = {"case_key": str, "case_config": dict[str, Any]}
@@ -81,15 +82,18 @@ def result_config(result: CaseResult) -> dict[str, Any]:
 
 
 def run_label(result: CaseResult) -> str:
-    """What tables call a result's algorithm: ``name``, or ``name [cfg <digest>]`` for a non-default config."""
+    """What tables call a result's algorithm: ``name``, then ``(<basis>)`` outside the effort
+    basis and ``[cfg <digest>]`` for a non-default config."""
     config = result_config(result)
-    return result.algorithm if not config else f"{result.algorithm} [cfg {config_digest(config)}]"
+    label = result.algorithm if result.basis == DEFAULT_BASIS else f"{result.algorithm} ({result.basis})"
+    return label if not config else f"{label} [cfg {config_digest(config)}]"
 
 
 def run_slug(result: CaseResult) -> str:
-    """:func:`run_label` for file names: ``name`` or ``name__cfg<digest>``."""
+    """:func:`run_label` for file names: ``name[__basis-<basis>][__cfg<digest>]``."""
     config = result_config(result)
-    return result.algorithm if not config else f"{result.algorithm}__cfg{config_digest(config)}"
+    slug = result.algorithm if result.basis == DEFAULT_BASIS else f"{result.algorithm}__basis-{result.basis}"
+    return slug if not config else f"{slug}__cfg{config_digest(config)}"
 
 
 def write_result(root: str | os.PathLike, spec: Case, result: Record) -> Path:

@@ -10,13 +10,14 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ioc_bench.bases import DEFAULT_BASIS, get_basis
 from ioc_bench.bench.case import DEFAULT_MODEL, CaseSpec
 from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.human.suites import HUMAN_SUITES, HumanSuite
 from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET, get_model
-from ioc_bench.weights import WEIGHT_SETS, parse_weights, weight_sets
+from ioc_bench.weights import WEIGHT_SETS, weight_sets
 
 
 @dataclass(frozen=True)
@@ -29,11 +30,12 @@ class Suite:
     conditions: tuple[str, ...]
     seeds: tuple[int, ...] = (0,)
     model: str = DEFAULT_MODEL
+    basis: str = DEFAULT_BASIS
 
     def __post_init__(self) -> None:
         gait_model = get_model(self.model)
         for w in self.weight_sets:
-            parse_weights(w, cost_features(gait_model))
+            get_basis(self.basis).parse_weights(w, gait_model)
         for c in self.conditions:
             get_condition(c)
         if not self.seeds:
@@ -51,7 +53,7 @@ class Suite:
         (``ValueError`` for a bad name, config, or a weight set the model lacks)."""
         cfg = dict(config or {})
         return [
-            CaseSpec(algorithm, w, c, s, cfg, model or self.model)
+            CaseSpec(algorithm, w, c, s, cfg, model or self.model, self.basis)
             for s in self.seeds
             for c in self.conditions
             for w in self.weight_sets
@@ -63,6 +65,8 @@ PAPER_CONDITIONS = ("ideal", "ideal-fast", "noise", "noise-kinematics", "mass", 
 #: The paper's further work: several trials of one subject (both speeds) for one cost.
 MULTI_TRIAL_CONDITIONS = ("multi-speed", "multi-speed-noise")
 #: Every condition on the robustness axes (ideal once), by axis then severity.
+#: The basis of the energetics suites.
+ENERGETICS = get_basis("energetics")
 ROBUSTNESS_CONDITIONS = tuple(dict.fromkeys(c.name for axis in AXES for c in axis_conditions(axis)))
 
 SUITES: dict[str, Suite | HumanSuite] = {
@@ -126,6 +130,21 @@ SUITES: dict[str, Suite | HumanSuite] = {
             weight_sets=tuple(weight_sets(cost_features(ROLLING_FEET))),
             conditions=PAPER_CONDITIONS,
             model=ROLLING_FEET.name,
+        ),
+        Suite(
+            "energetics-ideal",
+            "the energetics cost basis (efforts, positive joint work, heel-strike collision loss), exact: its 6 "
+            "weight sets (nominal, each feature penalised) x ideal",
+            weight_sets=tuple(ENERGETICS.weight_sets(get_model(DEFAULT_MODEL))),
+            conditions=("ideal",),
+            basis=ENERGETICS.name,
+        ),
+        Suite(
+            "energetics-distractor",
+            "the effort basis's 4 weight sets with work and the collision loss offered as well (true weight 0): "
+            "does each family keep them at zero?",
+            weight_sets=tuple(WEIGHT_SETS),
+            conditions=("distractor-energetics",),
         ),
         Suite(
             "robustness",

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ioc_bench.bases import forward_basis
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import evaluate
 from ioc_bench.metrics import trajectory_error
@@ -61,17 +62,18 @@ def transfer(weights: np.ndarray, features: Sequence[str], truth: Demonstration)
     """Solve unit ``weights`` over ``features`` for ``truth``'s model, parameters and task,
     warm-started at ``truth`` (the true weights' optimum there), and compare."""
     model = get_model(truth.model)
-    forward = get_forward_problem(model, truth.n_intervals)
+    forward = get_forward_problem(model, truth.n_intervals, forward_basis(model, (*features, *truth.weights)))
     w = full_weights(np.asarray(weights, dtype=float), features, forward.features)
     duals = (truth.lam_x, truth.lam_g) if truth.lam_x.shape == (forward.n_x,) else (None, None)
     start = StartPoint(forward.vector(truth.trajectory), *duals)
     result = forward.solve(SolveRequest(start, truth.params, truth.task, w))
     if not result.report.success:
         return Transfer(truth.task.speed, result.report.status, float("nan"), float("nan"))
-    true_w = np.array([truth.weights.get(f, 0.0) for f in forward.features])
-    phi = evaluate(result.trajectory, truth.params, forward.features, model)
-    est_cost = float(true_w @ np.array([phi[f] for f in forward.features]))
-    true_cost = float(true_w @ np.array([truth.features[f] for f in forward.features]))
+    priced = [f for f in forward.features if truth.weights.get(f, 0.0)]  # the true cost's features
+    true_w = np.array([truth.weights[f] for f in priced])
+    phi = evaluate(result.trajectory, truth.params, priced, model)
+    est_cost = float(true_w @ np.array([phi[f] for f in priced]))
+    true_cost = float(true_w @ np.array([truth.features[f] for f in priced]))
     return Transfer(
         speed=truth.task.speed,
         status=result.report.status,

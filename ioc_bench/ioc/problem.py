@@ -31,8 +31,9 @@ from typing import Protocol
 
 import numpy as np
 
+from ioc_bench.bases import forward_basis
 from ioc_bench.checks import check_non_negative
-from ioc_bench.features import available_features, check_model_names, evaluate, model_features
+from ioc_bench.features import check_model_names, evaluate
 from ioc_bench.ioc.forward_view import ForwardView
 from ioc_bench.ioc.oracle import OracleSolution, OracleStats
 from ioc_bench.ioc.smoothing import LADDER as SMOOTHING_LADDER
@@ -71,14 +72,6 @@ class ReferenceStore(Protocol):
     def get(self, key: str) -> tuple[StartPoint, SolverReport, int, float] | None: ...
 
     def put(self, key: str, point: StartPoint, report: SolverReport, solves: int, seconds: float) -> None: ...
-
-
-def forward_basis(model: GaitModel, features: Sequence[str]) -> tuple[str, ...] | None:
-    """The basis of the forward problem an IOC over ``features`` solves: the model's default
-    basis (None), with the features outside it that ``features`` names, in
-    :func:`~ioc_bench.features.available_features` order."""
-    extra = [f for f in available_features(model) if f in features and f not in model_features(model)]
-    return (*model_features(model), *extra) if extra else None
 
 
 class IOCProblem:

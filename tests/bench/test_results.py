@@ -374,3 +374,26 @@ def test_a_failed_case_may_lack_its_estimate_and_a_huge_seed_is_a_seed(tmp_path,
     spec = CaseSpec("log-barrier", "nominal", "ideal", seed)
     write_result(tmp_path, spec, make_result(seed=seed))
     assert stored_result(tmp_path, spec).seed == seed
+
+
+def test_a_result_of_another_basis_is_named_by_it_and_read_back(tmp_path, make_result):
+    from ioc_bench.bench.results import load_results, run_label, run_slug, write_result
+
+    spec = CaseSpec("log-barrier", "penalize-work", "ideal", 0, basis="energetics")
+    record = make_result(weight_set="penalize-work", basis="energetics")
+    path = write_result(tmp_path, spec, record)
+    assert path.name == "penalize-work__ideal__seed0__basis-energetics.json"
+    (again,) = load_results(tmp_path)
+    assert again.basis == "energetics" and again.features == ("hip", "knee", "dtau", "work", "collision")
+    assert run_label(again) == "log-barrier (energetics)" and run_slug(again) == "log-barrier__basis-energetics"
+
+
+def test_a_result_without_a_basis_is_of_the_effort_basis(make_result):
+    from ioc_bench.bench.results import parse_result
+
+    data = json.loads(json.dumps(make_result().to_dict()))
+    del data["basis"]
+    assert parse_result(data).basis == "effort"
+    data["weight_set"] = "penalize-work"
+    with pytest.raises(ValueError, match="penalize-work"):
+        parse_result(data)

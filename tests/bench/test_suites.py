@@ -58,3 +58,34 @@ def test_a_user_condition_needs_no_runner_change(monkeypatch):
     suite = Suite("mine", "", ("nominal",), ("noise-20",))
     assert suite.cases("log-barrier")[0].condition == "noise-20"
     assert "mine" not in SUITES
+
+
+def test_the_energetics_suites_weigh_work_and_the_collision_loss():
+    """``energetics-ideal``: demonstrations made in the energetics basis (their own cache
+    entries), its six weight sets, the IOC weighing the five features; ``energetics-distractor``:
+    the paper's demonstrations, with work and collision offered at true weight 0."""
+    ideal = get_suite("energetics-ideal").cases("x")
+    assert [c.weight_set for c in ideal] == [
+        "nominal", "penalize-hip", "penalize-knee", "penalize-dtau", "penalize-work", "penalize-collision"
+    ]  # fmt: skip
+    work = ideal[4]
+    assert work.features == ("hip", "knee", "dtau", "work", "collision")
+    assert work.key == "x/penalize-work__ideal__seed0__basis-energetics"
+    assert work.true_over_features().argmax() == 3
+    request = work.demo_request()
+    assert request.features == ("hip", "knee", "dtau", "torso", "steplen", "footheight", "work", "collision")
+    assert request.weights[6] == max(request.weights) and request.weights[3:6].tolist() == [0, 0, 0]
+    plain = CaseSpec("x", "nominal", "ideal", 0).demo_request()
+    assert ideal[0].demo_request().key != plain.key and plain.features is None
+    distractor = get_suite("energetics-distractor").cases("x")
+    assert {c.condition for c in distractor} == {"distractor-energetics"}
+    assert distractor[0].features == ("hip", "knee", "dtau", "work", "collision")
+    assert distractor[0].true_over_features()[3:].tolist() == [0, 0]
+    assert distractor[0].demo_request() == plain  # the paper's demonstration, shared
+
+
+def test_a_weight_set_of_another_basis_is_refused_naming_the_valid_ones():
+    with pytest.raises(ValueError, match="unknown weight set 'penalize-work'"):
+        CaseSpec("x", "penalize-work", "ideal", 0)
+    with pytest.raises(ValueError, match="unknown cost basis"):
+        CaseSpec("x", "nominal", "ideal", 0, basis="rich")

@@ -31,3 +31,15 @@ def test_wrong_weights_transfer_worse(fast_demo):
     wrong = np.array([1.0, 10.0, 1.0]) / np.linalg.norm([1.0, 10.0, 1.0])
     moved = transfer(wrong, COST_FEATURES, fast_demo)
     assert moved.trajectory_error > 1e-2 and moved.excess_cost > 1e-3
+
+
+def test_weights_on_features_outside_the_demonstrations_basis_transfer(fast_demo):
+    """An estimate over the energetics basis, scored on an effort-basis truth: work and the
+    collision loss at weight 0 transfer exactly as the efforts alone; weight on work does not."""
+    features = (*COST_FEATURES, "work", "collision")
+    truth = np.array([fast_demo.weights[f] for f in COST_FEATURES] + [0.0, 0.0])
+    moved = transfer(truth, features, fast_demo)
+    assert moved.status == "Solve_Succeeded"
+    assert moved.trajectory_error < 1e-8 and abs(moved.excess_cost) < 1e-7
+    off = transfer(np.array([*truth[:3], 0.5, 0.0]), features, fast_demo)
+    assert off.trajectory_error > 1e-4 and off.excess_cost > 0

@@ -79,8 +79,8 @@ def test_a_projection_that_fails_again_is_the_reference_that_failed(nominal_demo
 def test_a_problem_may_weigh_features_outside_the_default_basis(nominal_demo):
     """Work and collision are weighed by name: the problem's forward basis holds them, its
     features are the evaluated ones, and weighing work moves the optimum to less work."""
+    from ioc_bench.bases import forward_basis
     from ioc_bench.features import evaluate, model_features
-    from ioc_bench.ioc.problem import forward_basis
     from ioc_bench.model.walker import WALKER
 
     features = ("hip", "knee", "dtau", "work", "collision")
