@@ -263,7 +263,9 @@ def compare_results(
             "cases pair by algorithm, model, weight set, condition, seed and config)"
         )
     cells: dict[tuple[str, str, str, str], dict[str, list]] = defaultdict(lambda: {"pairs": [], "a": [], "b": []})
-    for key in keyed_a.keys() | keyed_b.keys():
+    # In a fixed order: the bootstrap draws its resamples by position, so the same folders must give the
+    # same order whatever the order they were read in (or a set's hash order).
+    for key in sorted(keyed_a.keys() | keyed_b.keys()):
         ra, rb = keyed_a.get(key), keyed_b.get(key)
         r = ra if ra is not None else rb
         assert r is not None

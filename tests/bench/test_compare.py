@@ -188,3 +188,14 @@ def test_a_case_given_twice_is_refused():
     records = _records({("bilevel", "ideal", "nominal", 0): 0.01})
     with pytest.raises(ValueError, match="holds the case bilevel/nominal__ideal__seed0 twice"):
         compare_results(records * 2, records)
+
+
+def test_the_intervals_do_not_depend_on_the_order_the_cases_come_in():
+    base = grid_errors()
+    rng = np.random.default_rng(4)
+    noisy = {case: max(0.0, e + float(rng.normal(0.005, 0.01))) for case, e in base.items()}
+    a, b = _records(base), _records(noisy)
+    first = compare_results(a, b)
+    order = rng.permutation(len(a))
+    again = compare_results([a[i] for i in order], [b[i] for i in reversed(order)])
+    assert [c.differences for c in again.cells] == [c.differences for c in first.cells]
