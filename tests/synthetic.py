@@ -69,3 +69,30 @@ def synthetic_result(
         demo_speed=0.27,
         basis=basis,
     )
+
+
+#: The grid of :func:`grid_errors` (two runs' folders for ``compare``).
+ALGORITHMS = ("log-barrier", "bilevel")
+CONDITIONS = ("ideal", "noise")
+WEIGHT_SETS = ("nominal", "penalize-knee")
+SEEDS = (0, 1, 2)
+
+
+def grid_errors(seed: int = 0) -> dict[tuple, float]:
+    """A made-up weight error for every case of a small grid (algorithm, condition, weight set, seed)."""
+    rng = np.random.default_rng(seed)
+    grid = [(a, c, w, s) for a in ALGORITHMS for c in CONDITIONS for w in WEIGHT_SETS for s in SEEDS]
+    return {case: float(rng.uniform(0.01, 0.05)) for case in grid}
+
+
+def write_run(root, errs: dict[tuple, float], failed=(), configs=None):
+    """A results folder holding a case per entry of ``errs`` (failed where listed), as ``run --out`` writes it."""
+    from ioc_bench.bench.results import CaseSpec, write_result
+
+    configs = configs or {}
+    for (alg, cond, ws, seed), error in errs.items():
+        config = configs.get(alg, {})
+        failed_here = (alg, cond, ws, seed) in failed
+        result = synthetic_result(alg, ws, cond, seed, failed=failed_here, config=config, weight_error=error)
+        write_result(root, CaseSpec(alg, ws, cond, seed, config), result)
+    return root

@@ -322,6 +322,8 @@ _COMMANDS = [
     "figures {res} --out {p}",
     "leaderboard {p}",
     "figures {p}",
+    "compare {res} {p}",
+    "compare {p} {res}",
     "human --subject WBDS01 --train T05 --predict T04 --out {p}",
     "human --subject WBDS01 --train T05 --predict T04 --data {p}",
 ]

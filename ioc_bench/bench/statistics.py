@@ -11,7 +11,9 @@ covers what repeating the study with these weight sets would give. Measured: the
 weight set and its interval is a point. That is the honest answer, not a lack of data.
 
 :func:`bootstrap_mean_ci` (cases as the units) serves the robustness curves, whose
-points have one seed per weight set: their interval is over the weight sets.
+points have one seed per weight set: their interval is over the weight sets; and
+``ioc-bench compare`` (:mod:`ioc_bench.bench.compare`), whose units are the paired
+differences of two runs' cases.
 """
 
 from __future__ import annotations
@@ -24,9 +26,9 @@ import numpy as np
 RESAMPLES = 9999
 
 
-def bootstrap_mean_ci(values: Sequence[float], seed: int = 0) -> tuple[float, float] | None:
-    """95 % percentile-bootstrap interval of the mean of the finite ``values`` (None if fewer
-    than two; a point if all are equal)."""
+def bootstrap_mean_ci(values: Sequence[float], seed: int = 0, level: float = 0.95) -> tuple[float, float] | None:
+    """Percentile-bootstrap interval (95 % unless ``level`` says otherwise) of the mean of the
+    finite ``values`` (None if fewer than two; a point if all are equal)."""
     from scipy.stats import bootstrap
 
     arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
@@ -37,7 +39,7 @@ def bootstrap_mean_ci(values: Sequence[float], seed: int = 0) -> tuple[float, fl
     res = bootstrap(
         (arr,),
         np.mean,
-        confidence_level=0.95,
+        confidence_level=level,
         n_resamples=RESAMPLES,
         method="percentile",
         rng=np.random.default_rng(seed),

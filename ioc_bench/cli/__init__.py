@@ -28,6 +28,7 @@ COMMANDS: tuple[str, ...] = (
     "run",
     "leaderboard",
     "figures",
+    "compare",
     "human",
 )
 

@@ -158,6 +158,9 @@ def make_results(tmp: Path, kind: str, make_result) -> Path:
         (tmp / "outside").mkdir()
         (root / "log-barrier").symlink_to(tmp / "outside")
         return root
+    if kind == "other-case":  # a good result of another case than ``valid``'s: seed 1
+        write_result(root, CaseSpec("log-barrier", "nominal", "ideal", 1), make_result(seed=1))
+        return root
     result = make_result()
     path = write_result(root, CaseSpec("log-barrier", "nominal", "ideal", 0), result)
     data = path.read_text() and json.loads(path.read_text())
@@ -235,6 +238,7 @@ CASES: list[Case] = [
     C("run-time-limit-nan", ARGUMENT, "run --time-limit nan", "must be a positive number"),
     C("run-workers-zero", ARGUMENT, "run --workers 0", "must be >= 1"),
     C("replay-steps-zero", ARGUMENT, "replay {demo} --steps 0", "must be >= 1"),
+    C("compare-level-one", ARGUMENT, "compare {res:valid} {res:valid} --level 1", "must be a number between 0 and 1"),
     # --config: not JSON, too deep, unknown fields, values of the wrong type or range
     C("ioc-config-negative", CONFIG, 'ioc --config {"n_random":-1}', "n_random must be >= 0"),
     C("ioc-config-choice", CONFIG, 'ioc --config {"forward_start":"nope"}', "forward_start must be 'warm' or 'cold'"),
@@ -367,6 +371,12 @@ CASES: list[Case] = [
     C("leaderboard-huge-n-solves", RESULT, "leaderboard {res:huge-n-solves}", "n_solves must be between 0 and"),
     C("leaderboard-multiline-status", RESULT, "leaderboard {res:multiline-status}", "status must be one line of 1 to"),
     C("leaderboard-nested-result", RESULT, "leaderboard {res:nested}", "JSON nested deeper than 64 levels"),
+    C("compare-missing-dir", RESULT, "compare {res:missing} {res:valid}", "results directory not found"),
+    C("compare-empty-dir", RESULT, "compare {res:valid} {res:empty}", "no case results"),
+    C("compare-a-file", RESULT, "compare {res:valid} {file}", "is a file: compare reads two results folders"),
+    C("compare-no-case-in-common", RESULT, "compare {res:valid} {res:other-case}", "have no case in common"),
+    C("compare-unreadable-result", RESULT, "compare {res:valid} {res:not-json}", "not JSON"),
+    C("compare-null-result", RESULT, "compare {res:null} {res:valid}", "expected a JSON object, got null"),
     # the demonstration cache
     C("ioc-cache-a-file", CACHE, "ioc", "/file/demos: /", cache="{file}"),
     C("run-cache-a-file", CACHE, "run --out {tmp}/results", "demonstration cache", cache="{file}"),
