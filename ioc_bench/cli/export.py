@@ -107,8 +107,8 @@ def run(args: argparse.Namespace) -> int:
         with usage_errors(f"{path}: "):
             check_replayable(demo)
     jobs = _minari_jobs(args, demos) if args.format == "minari" else _file_jobs(args, demos)
-    results = [_export(job, args) for job in jobs]
-    for result in results:
+    for job in jobs:  # each reported as soon as it is written
+        result = _export(job, args)
         if args.json:
             print_json(result)
         else:
