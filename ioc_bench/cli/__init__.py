@@ -23,6 +23,7 @@ COMMANDS: tuple[str, ...] = (
     "table1",
     "solver_timing",
     "replay",
+    "export",
     "algorithms",
     "ioc",
     "run",
