@@ -59,6 +59,7 @@ COST_BASES: dict[str, CostBasis] = {
     b.name: b
     for b in (
         CostBasis(DEFAULT_BASIS, "the model's torque efforts and torque rate (the paper's cost)"),
+        CostBasis("effort-work", "the efforts and the positive work of the joints", ("work",)),
         CostBasis(
             "energetics",
             "the efforts, the positive work of the joints and the energy heel strike removes",

@@ -23,6 +23,7 @@ def test_the_energetics_basis_adds_work_and_collision_after_the_efforts() -> Non
     assert energetics.features(WALKER) == ("hip", "knee", "dtau", "work", "collision")
     assert energetics.features(COMPASS) == ("hip", "dtau", "work", "collision")  # no knee to weigh
     assert energetics.features(ANKLE) == ("hip", "knee", "ankle", "dtau", "work", "collision")
+    assert get_basis("effort-work").features(WALKER) == ("hip", "knee", "dtau", "work")
 
 
 def test_every_basis_names_features_that_exist() -> None:
@@ -31,5 +32,5 @@ def test_every_basis_names_features_that_exist() -> None:
 
 @pytest.mark.parametrize("name", ["rich", "", None, 3])
 def test_an_unknown_basis_is_refused_with_the_valid_names(name) -> None:
-    with pytest.raises(ValueError, match=r"unknown cost basis .*valid: effort, energetics"):
+    with pytest.raises(ValueError, match=r"unknown cost basis .*valid: effort, effort-work, energetics"):
         get_basis(name)

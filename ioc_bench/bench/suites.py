@@ -140,6 +140,14 @@ SUITES: dict[str, Suite | HumanSuite] = {
             basis=ENERGETICS.name,
         ),
         Suite(
+            "effort-work-ideal",
+            "the effort-work cost basis (efforts and positive joint work), exact: its 5 weight sets (nominal, each "
+            "feature penalised) x ideal",
+            weight_sets=tuple(get_basis("effort-work").weight_sets(get_model(DEFAULT_MODEL))),
+            conditions=("ideal",),
+            basis="effort-work",
+        ),
+        Suite(
             "energetics-distractor",
             "the effort basis's 4 weight sets with work and the collision loss offered as well (true weight 0): "
             "does each family keep them at zero?",

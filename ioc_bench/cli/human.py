@@ -52,7 +52,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--model", default="walker", help=model_help)  # checked by the case: one line, exit 2
     task_help = "what the walker is told: speed (step length free; default) or speed-and-step (the person's too)"
     p.add_argument("--task", default="speed", help=task_help)  # checked by the case
-    basis_help = "cost basis the algorithm weighs: effort (default: hip, knee, dtau) or energetics (+ work, collision)"
+    basis_help = (
+        "cost basis weighed: effort (default: hip, knee, dtau), effort-work (+ work), energetics (+ work, collision)"
+    )
     p.add_argument("--basis", default="effort", help=basis_help)  # checked by the case
     p.add_argument("--suite", help=argparse.SUPPRESS)
     p.add_argument("--data", type=path_arg, help="a folder of the WBDS ASCII layout (default: the shipped subset)")

@@ -89,3 +89,16 @@ def test_a_weight_set_of_another_basis_is_refused_naming_the_valid_ones():
         CaseSpec("x", "penalize-work", "ideal", 0)
     with pytest.raises(ValueError, match="unknown cost basis"):
         CaseSpec("x", "nominal", "ideal", 0, basis="rich")
+
+
+def test_the_effort_work_suite_weighs_work_beside_the_efforts():
+    cases = get_suite("effort-work-ideal").cases("x")
+    assert [c.weight_set for c in cases] == [
+        "nominal",
+        "penalize-hip",
+        "penalize-knee",
+        "penalize-dtau",
+        "penalize-work",
+    ]
+    assert {c.features for c in cases} == {("hip", "knee", "dtau", "work")}
+    assert cases[-1].demo_request().features == ("hip", "knee", "dtau", "torso", "steplen", "footheight", "work")

@@ -67,7 +67,7 @@ CASE = ("human", "--subject", "WBDS01", "--train", "T05", "--predict", "T04")
         ((*CASE, "--model", "compass"), "human steps map to the models walker, rolling-feet, not 'compass'"),
         (("run", "--suite", "human-smoke", "--algorithm", "bilevel", "--model", "compass"), "not 'compass'"),
         ((*CASE, "--task", "nope"), "unknown task 'nope'; a human case's task is one of speed, speed-and-step"),
-        ((*CASE, "--basis", "rich"), "unknown cost basis 'rich'; valid: effort, energetics"),
+        ((*CASE, "--basis", "rich"), "unknown cost basis 'rich'; valid: effort, effort-work, energetics"),
     ],
 )
 def test_bad_input_exits_2_with_one_line_before_any_solve(capsys, tmp_path, broken, monkeypatch, argv, message):
