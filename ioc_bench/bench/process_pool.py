@@ -98,7 +98,12 @@ def _work(conn: Connection, job: Job, blas_threads: int, parent_pid: int) -> Non
 
 
 def _collect(worker: _Worker) -> CaseResult | None:
-    """The worker's result if it reported or died, else None (still running)."""
+    """The worker's result if it reported or died, else None (still running). Whether the
+    process is alive is read before the pipe: a worker that has exited has written all it
+    will, so a report sent before it died is read, not taken for a death. A worker that ended
+    without a report is one failure, whether its pipe shows the end or not (a sibling forked
+    while it ran may hold the pipe open)."""
+    alive = worker.process.is_alive()
     if worker.conn.poll():
         try:
             data = worker.conn.recv()
@@ -109,8 +114,8 @@ def _collect(worker: _Worker) -> CaseResult | None:
         if data is not None:
             return parse_any(data)
         return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
-    if not worker.process.is_alive():
+    if not alive:
         worker.process.join()
         worker.conn.close()
-        return failure_of(worker.job.spec, f"worker died (exit code {worker.process.exitcode})")
+        return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
     return None
