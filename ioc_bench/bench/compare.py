@@ -3,7 +3,7 @@
 A user iterating on an algorithm runs a suite, changes something, runs it again and asks
 what changed. Each run is a results folder (:func:`~ioc_bench.bench.results.select_results`
 reads it, as the leaderboard does). Cases are paired by their identity: algorithm, model,
-weight set, condition and seed, and the config too, unless an algorithm has exactly one
+cost basis, weight set, condition and seed, and the config too, unless an algorithm has exactly one
 config in each run (then its cases pair across the two configs: comparing a new config
 with the old one is what ``compare`` is for). Pairs are grouped in the board's cells
 (model, algorithm with its config, condition: :func:`~ioc_bench.bench.leaderboard.row_condition`)
@@ -260,7 +260,7 @@ def compare_results(
     if not keyed_a.keys() & keyed_b.keys():
         raise ValueError(
             f"{name_a} and {name_b} have no case in common ({name_a}: {_holds(syn_a)}; {name_b}: {_holds(syn_b)}; "
-            "cases pair by algorithm, model, weight set, condition, seed and config)"
+            "cases pair by algorithm, model, cost basis, weight set, condition, seed and config)"
         )
     cells: dict[tuple[str, str, str, str], dict[str, list]] = defaultdict(lambda: {"pairs": [], "a": [], "b": []})
     # In a fixed order: the bootstrap draws its resamples by position, so the same folders must give the
@@ -307,7 +307,7 @@ def _keyed(results: Sequence[CaseResult], across: set[str], name: str) -> dict[t
 def _pair_key(r: CaseResult, across: set[str]) -> tuple:
     """What pairs a case with its counterpart: its identity, without the config where the
     algorithm has one config in each run."""
-    key = (r.algorithm, r.model, r.weight_set, r.condition, r.seed)
+    key = (r.algorithm, r.model, r.basis, r.weight_set, r.condition, r.seed)  # a basis is another truth
     return key if r.algorithm in across else (*key, run_label(r))
 
 

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import os
+from pathlib import Path
 
 from ioc_bench.cli.common import add_json_flag, path_arg, print_json, usage_errors
 
@@ -23,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     with usage_errors():  # every result and the output checked here, so that errors while writing stay real errors
         results = select_results(args.results)
         out = args.results if args.out is None else args.out
-        board = plan_leaderboard(results, out, source=str(args.results), out_name="--out")
+        board = plan_leaderboard(results, out, source=_folder_name(args.results), out_name="--out")
     replaced = [str(board.out / name) for name in FILES if (board.out / name).is_file()]
     paths = board.write()
     if args.json:
@@ -34,3 +36,9 @@ def run(args: argparse.Namespace) -> int:
         print(paths[0].read_text())
         print(f"wrote {', '.join(str(p) for p in paths)}" + (f" (replacing {', '.join(replaced)})" if replaced else ""))
     return 0
+
+
+def _folder_name(path: str | os.PathLike) -> str:
+    """The results folder as the board names it: its last part, never where it lies on this
+    machine (a committed board carries no machine's path)."""
+    return Path(path).resolve().name or str(path)

@@ -199,3 +199,16 @@ def test_the_intervals_do_not_depend_on_the_order_the_cases_come_in():
     order = rng.permutation(len(a))
     again = compare_results([a[i] for i in order], [b[i] for i in reversed(order)])
     assert [c.differences for c in again.cells] == [c.differences for c in first.cells]
+
+
+def test_a_case_of_another_cost_basis_is_another_case():
+    """``nominal`` of the effort basis and of the energetics basis are two truths: never paired."""
+    effort = [synthetic_result("bilevel", "nominal", "ideal", s, weight_error=0.01) for s in (0, 1)]
+    energetics = [
+        synthetic_result("bilevel", "nominal", "ideal", s, weight_error=0.2, basis="energetics") for s in (0, 1)
+    ]
+    comparison = compare_results(effort, [*effort, *energetics])
+    assert comparison.paired == 2
+    assert {c.label: c.verdict for c in comparison.cells} == {"bilevel": SAME, "bilevel (energetics)": NA}
+    with pytest.raises(ValueError, match="no case in common"):  # one label each side: still not paired
+        compare_results(effort, energetics)

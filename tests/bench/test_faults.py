@@ -140,13 +140,21 @@ def _pool_workers(pid: int) -> list[int]:
     return workers
 
 
+def _interruptible() -> None:
+    """In the child before it runs: Ctrl-C as a terminal delivers it. A shell starts a
+    background job with SIGINT ignored and the child would inherit that (then the signal
+    these tests send does nothing, whatever the command does with it)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start_gait(tmp_path: Path, name: str) -> tuple[subprocess.Popen, list[int]]:
     """``ioc-bench gait`` with a 6-start pool of 2 workers, returned once both workers run."""
     env = os.environ | {"IOC_BENCH_CACHE": str(tmp_path / "cache")}
     cmd = [sys.executable, "-m", "ioc_bench.cli", "gait", "--starts", "6", "--workers", "2"]
     proc = subprocess.Popen(
-        [*cmd, "--out", str(tmp_path / name)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
-    )
+        [*cmd, "--out", str(tmp_path / name)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        preexec_fn=_interruptible,
+    )  # fmt: skip
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None and len(_pool_workers(proc.pid)) < 2:
         time.sleep(0.05)

@@ -168,3 +168,15 @@ def test_demonstrations_of_two_models_with_one_weight_set_name_are_not_compared(
     walker = [dataclasses.replace(make_result(seed=s), demo_features={"hip": 0.1, "knee": 0.2}) for s in (0, 1)]
     compass = [dataclasses.replace(r, model="compass", demo_features={"hip": 0.3, "dtau": 0.1}) for r in walker]
     assert demo_spread(walker + compass) == 0.0
+
+
+def test_a_board_names_its_results_folder_not_where_it_lies(tmp_path, make_result):
+    from ioc_bench.bench.results import CaseSpec, write_result
+    from ioc_bench.cli import main
+
+    results = tmp_path / "deep" / "results-x"
+    write_result(results, CaseSpec("log-barrier", "nominal", "ideal", 0), make_result())
+    assert main(["leaderboard", str(results), "--out", str(tmp_path / "board")]) == 0
+    for name in ("README.md", "leaderboard.json"):
+        text = (tmp_path / "board" / name).read_text()
+        assert "ioc-bench leaderboard results-x" in text and str(tmp_path) not in text
