@@ -16,7 +16,7 @@ import numpy as np
 
 from ioc_bench.features import available_features, cost_features, model_features
 from ioc_bench.model.gait_model import GaitModel
-from ioc_bench.weights import WeightSpec, normalize, parse_weights, weight_sets
+from ioc_bench.weights import WeightSpec, names_a_set, normalize, parse_weights, weight_sets
 
 
 @dataclass(frozen=True)
@@ -42,14 +42,11 @@ class CostBasis:
         anything :func:`~ioc_bench.weights.parse_weights` reads (numbers over the model's
         effort features leave the others at 0)."""
         sets = self.weight_sets(model)
-        if isinstance(spec, str) and spec in sets:
+        if isinstance(spec, str) and names_a_set(spec):
+            if spec not in sets:
+                raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(sets)}")
             return normalize(sets[spec])
-        try:
-            return parse_weights(spec, self.features(model))
-        except ValueError as exc:
-            if isinstance(spec, str) and "unknown weight set" in str(exc):
-                raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(sets)}") from None
-            raise
+        return parse_weights(spec, self.features(model))
 
 
 #: The basis every track uses unless told otherwise: the paper's effort features.

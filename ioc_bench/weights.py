@@ -95,7 +95,7 @@ def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> 
     if isinstance(spec, str):
         if spec in sets:
             values: Sequence[float] = sets[spec]
-        elif "," in spec or _is_number(spec):
+        elif not names_a_set(spec):
             try:
                 values = [float(s) for s in spec.split(",")]
             except ValueError:
@@ -128,9 +128,12 @@ def full_weights(weights: np.ndarray, features: Sequence[str], into: Sequence[st
     return out
 
 
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
+def names_a_set(spec: str) -> bool:
+    """Whether a weight spec given as text is read as a set's name (not as numbers)."""
+    if "," in spec:
         return False
-    return True
+    try:
+        float(spec)
+    except ValueError:
+        return True
+    return False

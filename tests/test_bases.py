@@ -34,3 +34,13 @@ def test_every_basis_names_features_that_exist() -> None:
 def test_an_unknown_basis_is_refused_with_the_valid_names(name) -> None:
     with pytest.raises(ValueError, match=r"unknown cost basis .*valid: effort, effort-work, energetics"):
         get_basis(name)
+
+
+def test_a_basis_reads_its_own_sets_numbers_and_refuses_other_names() -> None:
+    energetics = get_basis("energetics")
+    work = energetics.parse_weights("penalize-work", WALKER)
+    assert work.argmax() == energetics.features(WALKER).index("work")
+    efforts_only = energetics.parse_weights("1,10,1", WALKER)  # over the efforts: work and collision 0
+    assert efforts_only[3:].tolist() == [0.0, 0.0] and efforts_only.argmax() == 1
+    with pytest.raises(ValueError, match=r"unknown weight set 'penalize-ankle'; valid: nominal, .*penalize-collision"):
+        energetics.parse_weights("penalize-ankle", WALKER)

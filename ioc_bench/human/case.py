@@ -47,7 +47,7 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.bases import DEFAULT_BASIS, get_basis
+from ioc_bench.bases import DEFAULT_BASIS, forward_basis, get_basis
 from ioc_bench.cache import cache_dir
 from ioc_bench.checks import check_count, check_seed
 from ioc_bench.fileio import atomic_write_json
@@ -186,8 +186,9 @@ class HumanCaseSpec:
 
     @property
     def _solve_basis(self) -> tuple[str, ...] | None:
-        """The basis the estimate's steps are solved in (None: the model's default)."""
-        return None if self.basis == DEFAULT_BASIS else self.features
+        """The basis the estimate's steps are solved in: the IOC's forward problem's, so both
+        share one compiled problem (None: the model's default)."""
+        return forward_basis(self.gait_model, self.features)
 
     @property
     def gait_model(self) -> GaitModel:
@@ -298,8 +299,9 @@ class HumanCaseSpec:
         for code in dict.fromkeys((*self.scored, *self.sources().values())):
             task = self.task_of(steps[code])
             cold[code], demos[code] = solve_demo(
-                weights, steps[code], self.starts, self.seed, "estimate", model, task, self._solve_basis
-            )
+                dict(zip(self.features, weights)), steps[code], self.starts, self.seed, "estimate", model, task,
+                self._solve_basis,
+            )  # fmt: skip
         estimate = dict(cold)
         for code, source in self.sources().items():
             if code != source and cold[source].success:

@@ -285,6 +285,36 @@ def test_a_case_in_another_basis_weighs_its_features_and_names_it() -> None:
     assert [r.key for r in case.needs()] == [r.key for r in effort.needs()]  # the same reference steps
 
 
+def test_a_case_in_another_basis_solves_its_estimate_in_the_ioc_forward_basis(monkeypatch) -> None:
+    """The estimate's steps are solved over the IOC's forward basis (one compiled problem for
+    both), with the estimate's weights placed on their own features and 0 elsewhere."""
+    import ioc_bench.human.case as case_module
+    from ioc_bench.weights import parse_weights
+
+    class Stop(Exception):
+        pass
+
+    estimate = np.array([0.1, 0.2, 0.3, 0.9, 0.0])
+    fitted = type("Outcome", (), {"failed": False, "result": type("R", (), {"weights": estimate})()})()
+    seen = {}
+
+    def solve_demo(weights, step, starts, seed, label, model, task, features):
+        seen["weights"] = parse_weights(weights, features)
+        seen["features"] = features
+        raise Stop
+
+    monkeypatch.setattr(case_module, "fit", lambda *args: fitted)
+    monkeypatch.setattr(case_module, "solve_demo", solve_demo)
+    case = HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel", task="speed", basis="energetics")
+    with pytest.raises(Stop):
+        case.run({})
+    features = seen["features"]
+    assert features[:3] == ("hip", "knee", "dtau") and features[-2:] == ("work", "collision")
+    placed = dict(zip(features, seen["weights"]))
+    assert [placed[f] for f in case.features] == pytest.approx(estimate / np.linalg.norm(estimate))
+    assert all(placed[f] == 0.0 for f in features if f not in case.features)
+
+
 def test_a_record_keeps_its_basis_and_one_without_a_basis_is_the_effort_basis() -> None:
     case = HumanCaseSpec("WBDS01", "T05", ("T04",), "a", basis="energetics")
     record = dataclasses.replace(_record(case, {"T05": 6.0, "T04": 8.0}), weights=(0.6, 0.8, 0.0, 0.0, 0.0))
