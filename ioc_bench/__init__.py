@@ -2,14 +2,22 @@
 
 The forward problem (optimal gaits of a 5-segment planar walker) after Rebula, Schaal,
 Finley & Righetti, "A Robustness Analysis of Inverse Optimal Control of Bipedal Walking".
+
+What long calls do (a run's cases, demonstrations solved or read from the cache, workers
+that died) is reported through the ``ioc_bench`` logger and its children, which have no
+handler but a :class:`logging.NullHandler`: the application decides where it goes
+(docs/python_api.md, *Logging*).
 """
 
 from __future__ import annotations
 
 import importlib
+import logging
 from typing import Any
 
 from ioc_bench._version import __version__
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 #: Where each public name lives; imported on first use, so ``import ioc_bench`` (and the
 #: command line's start, when Ctrl-C must already be honoured) does not load CasADi.

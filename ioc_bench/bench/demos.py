@@ -4,14 +4,19 @@ A demonstration is the 15-start optimum for (weights, model, task, seed); it is 
 once and reused by every case and suite that needs it. The cache directory is
 :func:`~ioc_bench.cache.cache_dir`; entries are keyed by a hash of the inputs and of
 :data:`SOLVER_REVISION`, written atomically, and checked against that key when read.
+
+Logged to ``ioc_bench.bench.demos``: a demonstration solved (INFO, with its time), read
+from the cache (DEBUG), a cache entry that is not the one asked for or cannot be written
+(WARNING).
 """
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import io
 import json
+import logging
+import time
 import zipfile
 from dataclasses import dataclass
 from functools import cached_property
@@ -36,6 +41,8 @@ SOLVER_REVISION = 6
 #: Multi-start seed of a demonstration made outside a case (a case uses its own seed, so
 #: seeds vary the demonstration as a new experiment would).
 DEMO_SEED = 0
+
+logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,14 +136,30 @@ def demonstration(
     if use_cache and path.is_file():
         try:
             demo = Demonstration.load(path)
-        except DemonstrationFileError:
-            demo = None  # a stale or broken entry: solved again and replaced
-        if demo is not None and not mismatch(request, demo):
+            wrong = mismatch(request, demo)
+        except DemonstrationFileError as exc:  # a stale or broken entry: solved again and replaced
+            wrong = str(exc)
+        if not wrong:
+            logger.debug("demonstration %s read from the cache", request.key)
             return demo
+        logger.warning("cache entry %s cannot be used (%s); solving the demonstration again", path, wrong)
+    logger.info(
+        "solving demonstration %s: %s weights %s at speed %g, %d start(s), seed %d",
+        request.key,
+        request.model,
+        np.round(request.weights, 4).tolist(),
+        request.task.speed,
+        request.starts,
+        request.seed,
+    )
+    t0 = time.perf_counter()
     demo = request.solve(workers)
+    logger.info("demonstration %s solved in %.1f s", request.key, time.perf_counter() - t0)
     if use_cache:
-        with contextlib.suppress(OSError, ValueError):  # a demonstration that cannot be kept is only solved again
+        try:
             demo.save(path)
+        except (OSError, ValueError) as exc:  # a demonstration that cannot be kept is only solved again
+            logger.warning("could not keep demonstration %s in the cache: %s", request.key, exc)
     return demo
 
 
@@ -208,5 +231,7 @@ class ReferenceCache:
                 seconds=np.array(seconds),
             )
 
-        with contextlib.suppress(OSError, ValueError):  # a reference that cannot be kept is only recomputed
+        try:
             atomic_write(self._path(key), write)
+        except (OSError, ValueError) as exc:  # a reference that cannot be kept is only recomputed
+            logger.warning("could not keep reference %s in the cache: %s", key, exc)

@@ -11,11 +11,15 @@ Executors are registered as ``"module:Class"`` strings and imported only when as
 for, so Ray is never imported by a local run. Whatever goes wrong with a job (its
 worker dies, its Ray task fails, it runs over the time limit) becomes the case's failed
 record with the reason: a run never stops for one case.
+
+:func:`schedule` logs each case it starts (INFO) and each it cancels for running over
+the time limit (WARNING) to ``ioc_bench.bench.executor``.
 """
 
 from __future__ import annotations
 
 import importlib
+import logging
 import time
 from collections import deque
 from collections.abc import Callable, Hashable, Mapping, Sequence
@@ -37,6 +41,8 @@ EXECUTORS: dict[str, str] = {
 }
 
 Finish = Callable[[Case, Record], None]
+
+logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,12 +108,14 @@ def schedule(executor: Executor, jobs: Sequence[Job], time_limit: float, finish:
             while queue and len(running) < slots:
                 job = queue.popleft()
                 running[executor.submit(job)] = (job, time.monotonic())
+                logger.info("case %s started", job.spec.key)
             for handle, result in executor.poll(POLL_SECONDS):
                 job, _ = running.pop(handle)
                 finish(job.spec, result)
             now = time.monotonic()
             for handle, (job, started) in list(running.items()):
                 if now - started > time_limit:
+                    logger.warning("case %s ran over the time limit of %g s; cancelled", job.spec.key, time_limit)
                     executor.cancel(handle)
                     del running[handle]
                     finish(job.spec, failure_of(job.spec, f"timed out after {time_limit:g} s"))

@@ -4,7 +4,8 @@ The parent builds the trajectory solver before forking, so workers start at once
 worker runs one case and sends its result back through a pipe; the parent (the runner)
 writes it. A worker that dies without reporting becomes a failed result with its exit
 code; workers die with the parent however it dies (:mod:`ioc_bench.processes`), so a killed
-run leaves no orphaned cases.
+run leaves no orphaned cases (a worker's death is logged at WARNING to
+``ioc_bench.bench.process_pool``).
 Each worker's numpy BLAS gets this machine's cores divided among the workers: unlimited,
 two workers with two BLAS threads each on 2 cores ran inverse-kkt's dense least squares
 2-3x slower (docs/performance.md, "Parallel cases and BLAS threads"). CasADi's own
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
+import logging
 import multiprocessing as mp
 import os
 from dataclasses import dataclass
@@ -28,6 +30,8 @@ from ioc_bench.bench.results import parse_any
 from ioc_bench.checks import check_count
 from ioc_bench.processes import die_with_parent
 from ioc_bench.trajopt.forward_problem import get_forward_problem
+
+logger = logging.getLogger(__name__)
 
 
 @dataclass
@@ -113,9 +117,18 @@ def _collect(worker: _Worker) -> CaseResult | None:
         worker.conn.close()
         if data is not None:
             return parse_any(data)
-        return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
+        return _died(worker)
     if not alive:
         worker.process.join()
         worker.conn.close()
-        return failure_of(worker.job.spec, f"worker exited with code {worker.process.exitcode} before reporting")
+        return _died(worker)
     return None
+
+
+def _died(worker: _Worker) -> CaseResult:
+    """The failed record of a worker that exited without reporting (joined), logged."""
+    code = worker.process.exitcode
+    logger.warning(
+        "worker %s of case %s exited with code %s before reporting", worker.process.pid, worker.job.spec.key, code
+    )
+    return failure_of(worker.job.spec, f"worker exited with code {code} before reporting")

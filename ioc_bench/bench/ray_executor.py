@@ -12,6 +12,7 @@ child process with a deadline and turns any failure into one line.
 
 from __future__ import annotations
 
+import logging
 import os
 import re
 import socket
@@ -23,6 +24,8 @@ from typing import Any
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.executor import Job, execute, failure_of
 from ioc_bench.checks import check_count
+
+logger = logging.getLogger(__name__)
 
 #: Seconds the connection check may take before the cluster counts as unreachable.
 CONNECT_TIMEOUT = float(os.environ.get("IOC_BENCH_RAY_CONNECT_TIMEOUT", "60"))
@@ -81,7 +84,9 @@ class RayExecutor:
             try:
                 result = self._ray.get(ref)
             except Exception as exc:  # a worker crash surfaces as a Ray error
-                result = failure_of(job.spec, f"ray task failed: {type(exc).__name__}: {_one_line(exc)}")
+                reason = f"ray task failed: {type(exc).__name__}: {_one_line(exc)}"
+                logger.warning("case %s: %s", job.spec.key, reason)
+                result = failure_of(job.spec, reason)
             done.append((ref, result))
         return done
 

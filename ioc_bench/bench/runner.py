@@ -12,10 +12,15 @@ loses no finished case.
 Running the same command again skips every case whose file holds a success. A failed
 case (its algorithm failed, it timed out, its worker died) is recorded and shown, and
 retried on the next run unless ``keep_failed`` is set.
+
+Progress is logged to ``ioc_bench.bench.runner`` (besides the ``on_case`` and
+``on_stage`` callbacks): each stage and each finished case at INFO, a failed case at
+WARNING.
 """
 
 from __future__ import annotations
 
+import logging
 import os
 import time
 from collections.abc import Callable, Hashable, Mapping, Sequence
@@ -44,6 +49,8 @@ from ioc_bench.ioc.registry import get_algorithm, make_algorithm
 from ioc_bench.paths import check_output_dir
 
 OnCase = Callable[[Case, Record], None]
+
+logger = logging.getLogger(__name__)
 
 __all__ = ["DEFAULT_TIME_LIMIT", "RunPlan", "RunSummary", "plan_run", "prepare_inputs", "run_cases"]
 
@@ -93,23 +100,29 @@ class RunPlan:
     def run(self, on_case: OnCase | None = None, on_stage: Callable[[str], None] | None = None) -> RunSummary:
         """Run every pending case; ``on_case(spec, result)`` after each is written."""
         t0 = time.perf_counter()
-        say = on_stage or (lambda _msg: None)
+        say = _stages(on_stage)
         failed = [0]
 
         def finish(spec: Case, result: Record) -> None:
             write_result(self.out, spec, result)
             spec.write_extras(self.out, result)
             failed[0] += result.failed
+            level = logging.WARNING if result.failed else logging.INFO
+            logger.log(level, "case %s: %s, %.0f s", spec.key, result.headline(), result.wall_time)
             if on_case:
                 on_case(spec, result)
 
         with results_directory(self.out):
             pending, retries = self.pending()
+            if len(pending) < len(self.specs):
+                logger.info(
+                    "%d of %d case(s) already done in %s", len(self.specs) - len(pending), len(self.specs), self.out
+                )
             for spec, stored in self.stored():  # what a run killed between a record and its figures left out
                 if stored is not None:
                     spec.write_extras(self.out, stored)
             if pending:
-                inputs = prepare_inputs(pending, say)
+                inputs = prepare_inputs(pending, on_stage)
                 retried = f" ({retries} retried after failing before)" if retries else ""
                 for name in sorted({spec.algorithm for spec in pending}):
                     get_algorithm(name).prepare()  # shared set-up, built once before workers fork
@@ -117,7 +130,15 @@ class RunPlan:
                 jobs = [_job(spec, inputs) for spec in pending]
                 schedule(self.executor, jobs, self.time_limit, finish)
         total = len(self.specs)
-        return RunSummary(total, total - len(pending), len(pending), failed[0], time.perf_counter() - t0, retries)
+        summary = RunSummary(total, total - len(pending), len(pending), failed[0], time.perf_counter() - t0, retries)
+        logger.info(
+            "run finished: %d run, %d already done, %d failed, %.0f s",
+            summary.ran,
+            summary.skipped,
+            summary.failed,
+            summary.wall_time,
+        )
+        return summary
 
 
 def plan_run(
@@ -180,9 +201,11 @@ def run_one(spec: Case, out: str | os.PathLike | None, say: Callable[[str], None
     writing nothing. ``ValueError`` for bad input, before any solve."""
     if out is None:
         inputs = prepare_inputs([spec], say)
-        if say:
-            say(f"running {spec.key}")
-        return spec.run(inputs)
+        _stages(say)(f"running {spec.key}")
+        record = spec.run(inputs)
+        level = logging.WARNING if record.failed else logging.INFO
+        logger.log(level, "case %s: %s, %.0f s", spec.key, record.headline(), record.wall_time)
+        return record
     plan = plan_run([spec], out, workers=1)
     plan.run(on_stage=say)
     stored = stored_result(plan.out, spec)
@@ -194,9 +217,20 @@ def prepare_inputs(specs: Sequence[Case], say: Callable[[str], None] | None = No
     """The inputs of every case, each once (demonstrations, reference steps): read from the
     cache where its entry is that input's, else solved (all cores)."""
     unique = list(dict.fromkeys(r for spec in specs for r in spec.needs()))
-    if say and unique:
-        say(f"preparing {len(unique)} input(s) (demonstrations, reference steps)")
+    if unique:
+        _stages(say)(f"preparing {len(unique)} input(s) (demonstrations, reference steps)")
     return {request: request.prepare() for request in unique}
+
+
+def _stages(say: Callable[[str], None] | None) -> Callable[[str], None]:
+    """``say``, and each stage message logged at INFO too."""
+
+    def stage(msg: str) -> None:
+        logger.info("%s", msg)
+        if say:
+            say(msg)
+
+    return stage
 
 
 def _job(spec: Case, inputs: Mapping[Hashable, Any]) -> Job:

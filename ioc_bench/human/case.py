@@ -30,13 +30,16 @@ default, or another of :data:`HUMAN_MODELS`, on the subject's own body,
 :mod:`ioc_bench.human.models`), and every step of it uses that model: the observation, the
 IOC problem, the forward solves of the estimate and of the reference steps, their cache
 keys and the figure.
+
+Reference steps solved (INFO, with their time), read from the cache (DEBUG) or that cannot
+be kept in it (WARNING) are logged to ``ioc_bench.human.case``.
 """
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
+import logging
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -80,6 +83,8 @@ from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.paths import read_bytes
 from ioc_bench.task import Task
 from ioc_bench.weights import parse_weights
+
+logger = logging.getLogger(__name__)
 
 #: Weight directions also solved at every speed for the floor: the simplex lattice point
 #: that fit 9 of the 12 shipped trials best (``docs/human.md``): (hip, knee, dtau) = (1, 4, 0).
@@ -581,11 +586,18 @@ class ReferenceStep:
         path = cache_dir() / "human-references" / f"{self.key}.json"
         stored = _read_reference(path, self.key)
         if stored is not None:
+            logger.debug("reference step %s read from the cache", self.key)
             return stored
         model = get_model(self.model)
+        what = f"{self.label} on {self.step.subject} {self.step.speed_code} ({self.model})"
+        logger.info("solving reference step %s: %s, %d start(s), seed %d", self.key, what, self.starts, self.seed)
+        t0 = time.perf_counter()
         solved = solve_step(self.label, self.step, self.starts, self.seed, self.label, model, self.walker_task)
-        with contextlib.suppress(OSError, ValueError):  # a reference that cannot be kept is only solved again
+        logger.info("reference step %s solved in %.1f s", self.key, time.perf_counter() - t0)
+        try:
             atomic_write_json(path, {"key": self.key, "step": solved.to_dict()})
+        except (OSError, ValueError) as exc:  # a reference that cannot be kept is only solved again
+            logger.warning("could not keep reference step %s in the cache: %s", self.key, exc)
         return solved
 
 
