@@ -49,6 +49,7 @@ from ioc_bench.ioc.registry import (
 from ioc_bench.metrics import trajectory_error
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitModel, GaitParams
+from ioc_bench.provenance import provenance
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, full_weights, parse_weights
 
 #: Stream of the observation-noise generator (kept apart from the algorithm's streams).
@@ -260,6 +261,10 @@ class CaseResult:
         model_fit: the algorithm's test of whether its model fits the observation
             (:class:`~ioc_bench.ioc.algorithm.ModelFit` as a dict), None if it reports none;
             when ``model_fit["rejected"]`` the region is conditional on a model the data reject.
+        version: the ioc-bench version that ran the case.
+        provenance: the commit and package versions the case ran with
+            (:func:`ioc_bench.provenance.provenance`, taken in the process that ran it);
+            ``{}`` in a record made before it was recorded.
     """
 
     algorithm: str
@@ -293,6 +298,7 @@ class CaseResult:
     model_fit: dict[str, Any] | None = None
     basis: str = DEFAULT_BASIS
     version: str = __version__
+    provenance: dict[str, Any] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
@@ -532,6 +538,7 @@ def _score(base: dict, outcome: Fit, problem: IOCProblem | MultiTrialProblem) ->
         uncertainty=None if result.uncertainty is None else result.uncertainty.to_dict(),
         covered=None if result.uncertainty is None else result.uncertainty.contains(np.array(base["true_weights"])),
         model_fit=None if result.model_fit is None else result.model_fit.to_dict(),
+        provenance=provenance(),
     )
 
 
@@ -556,6 +563,7 @@ def _failed(base: dict, reason: str, outcome: Fit | None = None) -> CaseResult:
         n_solves=outcome.n_solves if outcome else 0,
         wall_time=outcome.wall_time if outcome else 0.0,
         oracle=outcome.stats.to_dict() if outcome else {},
+        provenance=provenance(),
     )
 
 

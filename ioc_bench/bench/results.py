@@ -42,6 +42,7 @@ from ioc_bench.ioc.contract import MAX_STATUS, check_model_fit, check_region
 from ioc_bench.ioc.registry import NAME_PATTERN, check_algorithm_name, config_overrides, make_algorithm
 from ioc_bench.paths import PathError, check_input_dir, check_inside, check_path_text, read_bytes
 from ioc_bench.processes import hold_across_fork
+from ioc_bench.provenance import check_provenance
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``; human cases join speeds and subjects by ``+``).
@@ -245,7 +246,7 @@ def check_result(result: CaseResult) -> None:
     distinct; the true weights are its truth over them; estimated weights non-negative and
     not all zero (or NaN for a failed case); errors and times non-negative (NaN only where
     a case may lack them), a sane solve count, a chosen iteration inside the history, a
-    short status.
+    short status, a provenance that is one or ``{}`` (:func:`~ioc_bench.provenance.check_provenance`).
     """
     check_algorithm_name(result.algorithm)
     check_seed(result.seed)
@@ -272,6 +273,7 @@ def check_result(result: CaseResult) -> None:
     _check_region(result)
     _check_model_fit(result)
     _check_transfer(result)
+    check_provenance(result.provenance)
     if not STATUS_PATTERN.fullmatch(result.status):
         raise ValueError(f"status must be one line of 1 to {MAX_STATUS} characters, got {shown(result.status)}")
     unknown = set(result.demo_features) - set(FEATURES)

@@ -81,6 +81,7 @@ from ioc_bench.ioc.registry import canonical_config, check_algorithm_name, check
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.paths import read_bytes
+from ioc_bench.provenance import provenance
 from ioc_bench.task import Task
 from ioc_bench.weights import parse_weights
 
@@ -369,6 +370,7 @@ class HumanCaseSpec:
             scores=scores,
             notes=dict(outcome.result.notes) if ok else {},
             oracle=outcome.stats.to_dict() if outcome else {},
+            provenance=provenance(),
         )
 
 

@@ -23,6 +23,7 @@ from ioc_bench._version import __version__
 from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.checks import json_fields, shown
 from ioc_bench.human.scoring import SKILL_TOL, beats, skill_score
+from ioc_bench.provenance import check_provenance
 
 #: The track's name, as result files record it.
 TRACK = "human"
@@ -145,7 +146,9 @@ class HumanResult:
     a ``basis`` was made in the effort basis); ``status`` is
     the algorithm's, or ``failed`` with ``reason`` (then no speed was scored); ``weights``
     are unit-norm over ``features`` (NaN if failed); ``wall_time`` and ``n_solves`` are the
-    algorithm's, ``scoring_time`` the forward solves' after it; ``scores`` by speed code.
+    algorithm's, ``scoring_time`` the forward solves' after it; ``scores`` by speed code;
+    ``provenance`` the commit and package versions the case ran with
+    (:func:`ioc_bench.provenance.provenance`; ``{}`` in a record made before it was recorded).
     """
 
     subject: str
@@ -174,6 +177,7 @@ class HumanResult:
     basis: str = DEFAULT_BASIS
     track: str = TRACK
     version: str = __version__
+    provenance: dict[str, Any] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
@@ -249,6 +253,7 @@ def check_values(record: HumanResult) -> None:
     """``ValueError`` naming the first value of ``record`` out of range or inconsistent with
     the others (its identity is checked against a case by :func:`ioc_bench.human.case.check_record`)."""
     _check_weights(record)
+    check_provenance(record.provenance)
     for name in ("wall_time", "scoring_time"):
         _non_negative(name, getattr(record, name), nan=False)
     if not 0 <= record.n_solves <= 10**9:

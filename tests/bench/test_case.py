@@ -9,6 +9,7 @@ import ioc_bench
 from ioc_bench.bench.results import parse_result
 from ioc_bench.ioc import registry
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
+from ioc_bench.provenance import provenance
 
 
 @pytest.fixture
@@ -44,6 +45,7 @@ def test_misbehaving_algorithm_gives_failed_result(register, fit, reason, ideal_
     assert result.status == "failed"
     assert reason in result.reason
     assert np.isnan(result.weight_error)
+    assert result.provenance == provenance()  # a failed case says what it ran with too
 
 
 def test_oracle_counts_and_perfect_answer_scores_zero(register, ideal_nominal_cached):
@@ -70,6 +72,7 @@ def test_result_round_trips_through_json(register, ideal_nominal_cached):
     result = ioc_bench.run_case(name, "nominal", "ideal", seed=0)
     again = parse_result(json.loads(json.dumps(result.to_dict())))
     assert again == result
+    assert result.provenance == provenance() and result.provenance["commit"]  # recorded when the case ran
 
 
 def test_a_stored_reference_is_the_same_and_counts_its_projections(nominal_demo, tmp_path, monkeypatch):

@@ -71,6 +71,29 @@ def test_written_files_state_method_seeds_and_versions(results_dir, tmp_path):
     data = json.loads(json_path.read_text())
     assert {c["condition"] for c in data["cells"]} == {"ideal", "noise", "mass"}
     assert len(data["cases"]) == 13
+    assert data["schema"] == "ioc-bench/leaderboard" and data["schema_version"] == 2 and "versions" not in data
+
+
+def test_a_board_states_what_its_cases_ran_with_not_what_drew_it(results_dir, tmp_path):
+    """The header and ``provenance`` are the cases' own commits and versions (the drawing
+    machine's are nowhere); a case recorded before provenance counts as not recorded."""
+    ran = {"commit": "0123456789abcdef0123456789abcdef01234567", "dirty": False, "versions": {"numpy": "1.0"}}
+    results = load_results(results_dir)
+    results = [dataclasses.replace(r, provenance=ran if k else {}) for k, r in enumerate(results)]
+    md_path, json_path = write_leaderboard(results, tmp_path / "board")
+    md, data = md_path.read_text(), json.loads(json_path.read_text())
+    assert (
+        "**Cases ran with:** commit `0123456789ab` (12 cases); not recorded (1 case). "
+        "**Versions:** numpy 1.0 (12 cases); not recorded (1 case)"
+    ) in md
+    assert "casadi" not in md.split("## ")[0]  # the header: the machine drawing the board has casadi, its cases not
+    assert data["provenance"] == {
+        "cases": 13,
+        "not_recorded": 1,
+        "commits": [{"commit": ran["commit"], "dirty": False, "cases": 12}],
+        "versions": [{"versions": {"numpy": "1.0"}, "cases": 12}],
+    }
+    assert [c["provenance"] for c in data["cases"]] == [{}] + [ran] * 12
 
 
 def test_penalised_weight_check():

@@ -28,6 +28,7 @@ from ioc_bench.bench.results import (
     write_result,
 )
 from ioc_bench.ioc.registry import AlgorithmError
+from ioc_bench.provenance import provenance
 
 # -- identity ------------------------------------------------------------------------------
 
@@ -326,6 +327,9 @@ def test_a_case_name_too_long_for_the_file_system_is_refused_before_the_run(tmp_
         stored_result(tmp_path, spec)
 
 
+_PROVENANCE = {"commit": "0123456789abcdef0123456789abcdef01234567", "dirty": False, "versions": {"numpy": "2.4.6"}}
+
+
 @pytest.mark.parametrize(
     ("change", "message"),
     [
@@ -358,6 +362,16 @@ def test_a_case_name_too_long_for_the_file_system_is_refused_before_the_run(tmp_
         ({"status": "x" * 501}, "status must be one line"),
         ({"demo_features": {"bogus": 1.0}}, "demo_features must map known features"),
         ({"wall_time": 10**400}, "wall_time must be a number"),
+        ({"provenance": {"commit": None}}, r"provenance must be \{\} or have the fields commit, dirty, versions"),
+        ({"provenance": _PROVENANCE | {"commit": "HEAD"}}, "provenance.commit must be null or 40 lower-case hex"),
+        ({"provenance": _PROVENANCE | {"commit": "A" * 40}}, "provenance.commit must be null or 40 lower-case hex"),
+        ({"provenance": _PROVENANCE | {"dirty": 1}}, "provenance.dirty must be null, true or false"),
+        ({"provenance": _PROVENANCE | {"commit": None}}, "provenance.dirty must be null without a commit"),
+        ({"provenance": _PROVENANCE | {"versions": {"numpy": None}}}, "provenance.versions must map"),
+        ({"provenance": _PROVENANCE | {"versions": {"where": "/home/me/ioc"}}}, "without / or"),
+        ({"provenance": _PROVENANCE | {"versions": {str(k): "1" for k in range(33)}}}, "at most 32 names"),
+        ({"provenance": _PROVENANCE | {"versions": []}}, "provenance.versions must map"),
+        ({"provenance": "abc"}, "provenance must be an object"),
     ],
 )
 def test_out_of_range_values_are_refused(make_result, change, message):
@@ -365,6 +379,25 @@ def test_out_of_range_values_are_refused(make_result, change, message):
     with pytest.raises(ValueError, match=message) as exc:
         parse_result(make_result().to_dict() | change)
     assert "\n" not in str(exc.value) and len(str(exc.value)) < 400
+
+
+def test_a_result_keeps_the_provenance_it_ran_with_and_one_without_it_has_none_recorded(tmp_path, make_result):
+    spec = CaseSpec("log-barrier", "nominal", "ideal", 0)
+    result = dataclasses.replace(make_result(), provenance=provenance())
+    path = write_result(tmp_path, spec, result)
+    assert read_result(path) == result and read_result(path).provenance == provenance()
+    assert stored_result(tmp_path, spec) == result  # a case done stays done, whatever it ran with
+    old = json.loads(path.read_text())
+    del old["provenance"]
+    assert parse_result(old).provenance == {}
+    path.write_text(json.dumps(old | {"provenance": _PROVENANCE}))  # another commit: still this case, done
+    assert stored_result(tmp_path, spec).provenance == _PROVENANCE
+
+
+def test_a_case_records_the_provenance_of_the_process_that_ran_it():
+    from ioc_bench.bench.case import failure
+
+    assert failure(CaseSpec("log-barrier", "nominal", "ideal", 0), "timed out").provenance == provenance()
 
 
 def test_a_failed_case_may_lack_its_estimate_and_a_huge_seed_is_a_seed(tmp_path, make_result):

@@ -17,6 +17,7 @@ from ioc_bench.human.scoring import NOMINAL, beats, skill_score, solve_step
 from ioc_bench.human.suites import HUMAN_SUITES, SHIPPED_SUBJECTS, SPEED_CODES
 from ioc_bench.human.summary import markdown, pooled_r2, run_floors, summarize, weight_spread
 from ioc_bench.optimize import optimize_gait
+from ioc_bench.provenance import provenance
 
 
 @pytest.mark.parametrize(
@@ -109,8 +110,10 @@ def test_an_algorithm_for_one_trial_given_several_is_a_recorded_failure(one_tria
     record = spec.run({})
     assert record.failed and "multi_trial is False" in record.reason
     assert record.n_solves == 0 and record.scores == {}
+    assert record.provenance == provenance() and spec.failure("timed out").provenance == provenance()
     again = parse_record(json.loads(json.dumps(record.to_dict(), allow_nan=True).replace("NaN", "null")))
     assert again.failed and again.reason == record.reason and np.all(np.isnan(again.weights))
+    assert again.provenance == record.provenance
 
 
 @pytest.fixture(scope="module")
@@ -179,6 +182,9 @@ def _record(case: HumanCaseSpec, rmse: dict[str, float], nominal: float = 10.0):
     )  # fmt: skip
 
 
+_PROVENANCE = {"commit": "0123456789abcdef0123456789abcdef01234567", "dirty": False, "versions": {"numpy": "2.4.6"}}
+
+
 def test_a_record_read_back_is_checked_for_consistency() -> None:
     case = HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel")
     record = _record(case, {"T05": 6.0, "T04": 8.0})
@@ -200,6 +206,11 @@ def test_a_record_read_back_is_checked_for_consistency() -> None:
         (lambda d: d["scores"]["T04"].update(continued_from="T05", change_r2=0.5), "change_r2 is 0.5"),
         (lambda d: d["scores"]["T04"].update(step_length_error=-0.1), "step_length_error must be a non-negative"),
         (lambda d: d.update(task="walk"), "unknown task 'walk'"),
+        (lambda d: d.update(provenance={"commit": "abc"}), r"provenance must be \{\} or have the fields"),
+        (lambda d: d.update(provenance=_PROVENANCE | {"commit": "xyz"}), "provenance.commit must be null or 40"),
+        (lambda d: d.update(provenance=_PROVENANCE | {"dirty": "no"}), "provenance.dirty must be null, true"),
+        (lambda d: d.update(provenance=_PROVENANCE | {"versions": {"numpy": 2}}), "provenance.versions must map"),
+        (lambda d: d.update(provenance=[]), "provenance must be an object"),
     ]
     for edit, message in edits:
         spoilt = json.loads(json.dumps(data))
@@ -326,6 +337,15 @@ def test_a_record_keeps_its_basis_and_one_without_a_basis_is_the_effort_basis() 
     wrong = record.to_dict() | {"features": ["hip", "knee", "dtau"]}
     with pytest.raises(ValueError, match="features"):
         parse_record(json.loads(json.dumps(wrong)))
+
+
+def test_a_record_keeps_its_provenance_and_one_without_it_has_none_recorded() -> None:
+    case = HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel")
+    record = dataclasses.replace(_record(case, {"T05": 6.0, "T04": 8.0}), provenance=provenance())
+    assert parse_record(json.loads(json.dumps(record.to_dict()))).provenance == provenance()
+    old = record.to_dict()
+    del old["provenance"]
+    assert parse_record(json.loads(json.dumps(old))).provenance == {}
 
 
 def test_the_summary_keeps_each_bases_records_apart() -> None:
