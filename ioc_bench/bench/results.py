@@ -225,20 +225,24 @@ def _recorded_config(result: CaseResult, case_config: Mapping[str, Any] | None) 
     return config
 
 
-def parse_result(data: Any) -> CaseResult:
+def parse_result(data: Any, *, history_kept: bool = True) -> CaseResult:
     """A :class:`CaseResult` from a decoded JSON value; ``ValueError`` naming the first problem.
 
     Checks every field against :class:`CaseResult`'s annotations (numbers are numbers,
     NaN stored as null), that no required field is missing and no unknown one present,
-    and that every value is in range (:func:`check_result`).
+    and that every value is in range (:func:`check_result`). ``history_kept=False`` reads a
+    record kept without its per-iteration history (a board's): what derives from the history
+    is not checked, and a record that still has one is refused.
     """
     values = json_fields(CaseResult, data, extra=_FILE_FIELDS)
     result = CaseResult(**values)
-    check_result(result)
+    if not history_kept and result.history:
+        raise ValueError("a case kept without its history has one")
+    check_result(result, history_kept=history_kept)
     return result
 
 
-def check_result(result: CaseResult) -> None:
+def check_result(result: CaseResult, *, history_kept: bool = True) -> None:
     """``ValueError`` naming the first value of ``result`` out of its range.
 
     The identity is a case (algorithm name, model, weight set, condition, seed: the
@@ -268,8 +272,8 @@ def check_result(result: CaseResult) -> None:
             f"{shown(result.weight_set)} over {list(names)}, {shown([round(x, 6) for x in expected.tolist()])}"
         )
     _check_estimate(result)
-    _check_numbers(result)
-    _check_derived(result)
+    _check_numbers(result, history_kept)
+    _check_derived(result, history_kept)
     _check_region(result)
     _check_model_fit(result)
     _check_transfer(result)
@@ -298,7 +302,7 @@ def _check_estimate(result: CaseResult) -> None:
 DERIVED_TOLERANCE = 1e-9
 
 
-def _check_derived(result: CaseResult) -> None:
+def _check_derived(result: CaseResult, history_kept: bool = True) -> None:
     """Numbers derived from others in the same record agree with them: the estimate has unit
     norm, the weight error is the mean absolute difference to the true weights, the found
     trajectory error is the chosen iteration's, and the forward solves are the oracle's count."""
@@ -312,7 +316,8 @@ def _check_derived(result: CaseResult) -> None:
                 f"weight_error {shown(result.weight_error)} is not the mean |weights - true_weights| of the "
                 f"record, {expected:.12g}"
             )
-    _check_found_error(result)
+    if history_kept:
+        _check_found_error(result)
     calls = result.oracle.get("calls") if isinstance(result.oracle, dict) else None
     if isinstance(calls, dict):
         solves = calls.get("optimize", 0) + calls.get("project", 0)
@@ -412,7 +417,7 @@ def _number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _check_numbers(result: CaseResult) -> None:
+def _check_numbers(result: CaseResult, history_kept: bool = True) -> None:
     def check(name: str, value: float | None, upper: float = math.inf, may_be_nan: bool = True) -> None:
         if value is None:
             return
@@ -431,7 +436,7 @@ def _check_numbers(result: CaseResult) -> None:
     if not 0 <= result.n_solves <= MAX_SOLVES:
         raise ValueError(f"n_solves must be between 0 and {MAX_SOLVES}, got {shown(result.n_solves)}")
     i = result.chosen_iteration
-    if i is not None and not 0 <= i < len(result.history):
+    if history_kept and i is not None and not 0 <= i < len(result.history):
         raise ValueError(f"chosen_iteration must index the history ({len(result.history)} entries), got {shown(i)}")
 
 
@@ -630,3 +635,56 @@ TRACKS: dict[str, Track] = {
     "synthetic": Track("synthetic", parse_result, recorded_spec),
     "human": Track("human", _human_parse, _human_case),
 }
+
+
+#: The largest board file read back (``leaderboard.json``).
+MAX_BOARD_BYTES = 256 * 2**20
+
+
+def board_records(path: str | os.PathLike) -> list[Record]:
+    """The case records a board keeps in its ``leaderboard.json`` (its synthetic ``cases`` and
+    ``human_cases``), each checked as a result file's. A board keeps a case without its
+    per-iteration history (what derives from it is not checked again); human cases keep their
+    scores without the angle traces. ``ValueError`` (one line) naming the problem."""
+    try:
+        data = load_json(read_bytes(path, MAX_BOARD_BYTES, what="board").decode("utf-8"))
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path} is not a board: {_one_line(exc)}") from None
+    if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
+        raise ValueError(f"{path} is not a board: it has no list of cases (a leaderboard.json holds one)")
+    records: list[Record] = []
+    for i, case in enumerate([*data["cases"], *data.get("human_cases", [])]):
+        if not isinstance(case, dict):
+            raise ValueError(f"{path}: case {i} is not a record")
+        kept = {k: v for k, v in case.items() if k != "label"}
+        try:
+            records.append(parse_any(kept) if "track" in kept else parse_result(kept, history_kept=False))
+        except ValueError as exc:
+            raise ValueError(f"{path}: case {i} is not a case result: {_one_line(exc)}") from None
+    return records
+
+
+def select_sources(sources: Sequence[str | os.PathLike], algorithms: Sequence[str] | None = None) -> list[Record]:
+    """The records of several sources, each a results folder (:func:`select_results`) or a
+    board's ``leaderboard.json`` (:func:`board_records`): a board regenerated by parts keeps the
+    cases it is not given again. A case in more than one source is taken from the last."""
+    by_case: dict[tuple[str, str], Record] = {}
+    for source in sources:
+        records = board_records(source) if Path(source).is_file() else select_results(source)
+        for record in records:
+            by_case[(_track_name(record), case_key(record))] = record
+    results = list(by_case.values())
+    present = sorted({r.algorithm for r in results})
+    unknown = [a for a in algorithms or () if a not in present]
+    if unknown:
+        raise ValueError(f"algorithm(s) not in the results: {', '.join(unknown)}; present: {', '.join(present)}")
+    return [r for r in results if not algorithms or r.algorithm in algorithms]
+
+
+def case_key(record: Record) -> str:
+    """The key of the case a record holds (as its result file is named)."""
+    return TRACKS[_track_name(record)].case_of(record, None).key
+
+
+def _track_name(record: Record) -> str:
+    return getattr(record, "track", "synthetic")

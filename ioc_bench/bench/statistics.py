@@ -24,6 +24,8 @@ import numpy as np
 
 #: Bootstrap resamples.
 RESAMPLES = 9999
+#: Minimum seeds per weight set for a bootstrap confidence interval.
+MIN_SEEDS_FOR_CI = 3
 
 
 def bootstrap_mean_ci(values: Sequence[float], seed: int = 0, level: float = 0.95) -> tuple[float, float] | None:
@@ -48,16 +50,34 @@ def bootstrap_mean_ci(values: Sequence[float], seed: int = 0, level: float = 0.9
 
 
 def stratified_mean_ci(
-    strata: Sequence[Sequence[float]], resamples: int = RESAMPLES, seed: int = 0
+    strata: Sequence[Sequence[float]],
+    resamples: int = RESAMPLES,
+    seed: int = 0,
+    shares: Sequence[float] | None = None,
 ) -> tuple[float, float] | None:
     """95 % percentile interval of the mean over all values, resampling each stratum's
-    finite values with replacement within the stratum (None if no stratum has two values)."""
-    groups = [np.asarray([v for v in g if np.isfinite(v)], dtype=float) for g in strata]
-    groups = [g for g in groups if g.size]
-    if not groups or max(g.size for g in groups) < 2:
+    finite values with replacement within the stratum (None if no stratum has two values).
+
+    ``shares`` (one per stratum, summing to 1) make the statistic the weighted mean of the
+    strata's means instead, e.g. every condition counted equally however many cases it has;
+    a stratum left without finite values drops out and the others' shares are rescaled."""
+    given = [1.0] * len(strata) if shares is None else list(shares)
+    if len(given) != len(strata):
+        raise ValueError(f"shares has {len(given)} entries for {len(strata)} strata")
+    kept = [
+        (np.asarray(arr, dtype=float), share)
+        for arr, share in (([v for v in g if np.isfinite(v)], s) for g, s in zip(strata, given))
+        if arr
+    ]
+    if not kept or max(g.size for g, _ in kept) < 2:
         return None
+    groups = [g for g, _ in kept]
+    if shares is None:  # the plain mean: each value counts once
+        weights = np.array([g.size for g in groups], dtype=float)
+    else:
+        weights = np.array([share for _, share in kept], dtype=float)
+    weights /= weights.sum()
     rng = np.random.default_rng(seed)
-    total = sum(g.size for g in groups)
-    sums = sum(rng.choice(g, size=(resamples, g.size), replace=True).sum(axis=1) for g in groups)
-    low, high = np.percentile(sums / total, [2.5, 97.5])
+    means = sum(w * rng.choice(g, size=(resamples, g.size), replace=True).mean(axis=1) for g, w in zip(groups, weights))
+    low, high = np.percentile(means, [2.5, 97.5])
     return float(low), float(high)
