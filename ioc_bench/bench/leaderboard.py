@@ -193,9 +193,10 @@ def _sci(x: float) -> str:
     return "n/a" if not np.isfinite(x) else f"{x:.3g}"
 
 
-def markdown(results: Sequence[Record], source: str = "results/") -> str:
+def markdown(results: Sequence[Record], source: str = "results/", figures: Sequence[str] = ()) -> str:
     """The leaderboard as Markdown: a header, then the synthetic track's sections (summary
-    table, calibration, robustness, paper comparison, every case) and the human track's."""
+    table, calibration, robustness, paper comparison, every case) and the human track's,
+    which shows the human case ``figures`` (paths relative to the page)."""
     synthetic, human = split_tracks(results)
     lines = [
         "# ioc-bench leaderboard",
@@ -209,7 +210,7 @@ def markdown(results: Sequence[Record], source: str = "results/") -> str:
     if synthetic:
         lines += _synthetic_sections(synthetic)
     if human:
-        lines += ["", *_human_section(human)]
+        lines += ["", *_human_section(human, figures)]
     return "\n".join(lines) + "\n"
 
 
@@ -219,10 +220,10 @@ def split_tracks(results: Sequence[Record]) -> tuple[list[CaseResult], list[Reco
     return synthetic, [r for r in results if not isinstance(r, CaseResult)]
 
 
-def _human_section(records: Sequence[Record]) -> list[str]:
+def _human_section(records: Sequence[Record], figures: Sequence[str] = ()) -> list[str]:
     from ioc_bench.human.summary import markdown as human_markdown
 
-    return [human_markdown(records).rstrip("\n")]
+    return [human_markdown(records, figures).rstrip("\n")]
 
 
 def _synthetic_sections(results: Sequence[CaseResult]) -> list[str]:
@@ -485,8 +486,13 @@ class LeaderboardPlan:
         whole); returns their paths. ``leaderboard.json`` records the SHA-256 of the
         ``README.md`` written with it."""
         results, source = self.results, self.source
-        md = markdown(results, source).encode()
         synthetic, human = split_tracks(results)
+        figures = ()
+        if human:
+            from ioc_bench.human.opening import case_figures
+
+            figures = case_figures(self.out)  # the human case figures already in the board's figures/
+        md = markdown(results, source, figures).encode()
         data = {
             "generated_by": f"ioc-bench leaderboard {source}",
             "readme_sha256": hashlib.sha256(md).hexdigest(),
