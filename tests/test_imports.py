@@ -94,6 +94,7 @@ ALLOWED: dict[tuple[str, str], str] = {
     # The runner, the results folder and the boards live in ``bench`` beside the synthetic
     # track, and know the human track by name. To go when tracks become plug-ins that the
     # runner and the boards are handed.
+    ("ioc_bench.bench.leaderboard", "ioc_bench.human.board"): "boards name the human track; until track plug-ins",
     ("ioc_bench.bench.leaderboard", "ioc_bench.human.summary"): "boards name the human track; until track plug-ins",
     ("ioc_bench.bench.results", "ioc_bench.human.case"): "results folder names the human track; until track plug-ins",
     ("ioc_bench.bench.suites", "ioc_bench.human.suites"): "suite list names the human track; until track plug-ins",

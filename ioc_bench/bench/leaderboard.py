@@ -215,7 +215,7 @@ def split_tracks(results: Sequence[Record]) -> tuple[list[CaseResult], list[Reco
 
 
 def _human_section(records: Sequence[Record], figures: Sequence[str]) -> list[str]:
-    from ioc_bench.human.summary import markdown as human_markdown
+    from ioc_bench.human.board import markdown as human_markdown
 
     return [human_markdown(records, figures).rstrip("\n")]
 

@@ -7,9 +7,10 @@ was measured, on the walker or another model the step maps to (``models``: the w
 rolling feet, on the subject's body). The track itself: ``case`` (a case of the benchmark's case protocol: a cost
 inferred at some speeds, its steps predicted at the others), ``scoring`` (the RMSEs, the
 copy baseline, the adaptation and ground-force errors), ``record`` (what a result file
-holds, checked when read), ``summary`` (a run per algorithm and design), ``suites`` (the
-case lists as data) and ``figures``; these bring in the solvers and are imported on their
-own. ``docs/human.md`` says how each choice was made and what it costs.
+holds, checked when read), ``summary`` (a run per algorithm and design), ``opening`` (the
+board's ranked summary, headline and figures), ``suites`` (the case lists as data) and
+``figures``; these bring in the solvers and are imported on their own. ``docs/human.md``
+says how each choice was made and what it costs.
 """
 
 from ioc_bench.human.anthropometry import BodyLengths, SubjectBody, subject_body, subject_walker

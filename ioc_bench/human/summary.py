@@ -194,7 +194,7 @@ def weight_spread(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
     return rows
 
 
-#: What the human section of a board says of its method, before its tables.
+#: What the human section of a board says of its method, above its detailed tables.
 METHOD = (
     "**Method.** A cost is inferred from a person's treadmill steps (WBDS: the leg segments' angles and rates "
     "of the mean step, mapped to the subject's own walker) at the training speed(s); the walker's optimum for it "
@@ -202,25 +202,25 @@ METHOD = (
     "scored against the person's step there. *Task*: `speed` gives the walker the belt speed only (its step "
     "length and cadence are predictions); `speed-and-step` gives it the person's step length too. *Change R^2*: "
     "1 - sum |walker's change - person's change|^2 / sum |person's change|^2 of the leg angles between the "
-    "training speed and the predicted one, pooled over the row's predictions: copying the person's training "
-    "step scores 0, so above 0 beats copy. *Step length*: median |log| error of the walker's step length "
-    "(at a given speed, the cadence's is the same), and of the person's step length at the training speed "
-    "scaled by the walker's ratio (*change*). *Family changes*: predictions whose stance knee at heel strike "
-    "moved more than 5 deg from the step they were carried from; *cold other family*: where the cheapest of "
-    "cold starts lands on another family than the prediction. The model-free baselines (copy, the population's "
-    "mean change between the two speeds from the other shipped subjects, interpolation in speed between two "
-    "training speeds, the population's power law of step length L ~ v^b) are in their own table over the same "
-    "predictions. RMSEs in degrees over the four leg segments; *nominal*: all weights equal. Designs: one "
-    "training speed, two, all but one (*leave one out*), and *population* (fitted on the other subjects). Times "
-    "are the IOC's plus the forward solves'. See `docs/human.md`."
+    "training speed and the predicted one, pooled over a row's predictions (copying the person's training step "
+    "scores 0). *Step length*: median |log| error of the walker's step length (at a given speed the cadence's is "
+    "the same), and (*change*) of the person's step length at the training speed scaled by the walker's ratio. "
+    "*Family changes*: predictions whose stance knee at heel strike moved more than 5 deg from the step they were "
+    "carried from; *cold other family*: where the cheapest of cold starts lands on another family. Baselines: "
+    "copy; the population's mean change between the two speeds (the other shipped subjects); interpolation in "
+    "speed between two training speeds; the population's power law of step length L ~ v^b. RMSEs in degrees over "
+    "the four leg segments; *nominal*: all weights equal. Designs: one training speed, two, all but one (*leave "
+    "one out*), *population* (fitted on the other subjects). Times: the IOC's plus the forward solves'. See "
+    "`docs/human.md`."
 )
 
 
-def markdown(records: Sequence[HumanResult]) -> str:
-    """The human track's section of a leaderboard: the change and step-length table, the
-    baselines', the angles' table and the weight spread."""
+def detail_lines(records: Sequence[HumanResult]) -> list[str]:
+    """The details of the human track's board section: the method, the change and step-length
+    table, the baselines', the angles' table and the weight spread."""
+    lines: list[str] = []
+    lines += ["### Details", "", METHOD, "", "What each cost predicts of the change of gait with speed:", ""]
     rows = summarize(records)
-    lines = ["## Human track", "", METHOD, "", "What each cost predicts of the change of gait with speed:", ""]
     lines += _table(
         ["algorithm", "task", "design", "cases", "failed", "change R^2 (cold)", "change beat copy",
          "change beat population", "step length (change)", "family changes", "cold other family", "time (s)"],
@@ -253,7 +253,7 @@ def markdown(records: Sequence[HumanResult]) -> str:
           _cell(r["median_skill_run_floor"], 2)] for r in rows],
     )  # fmt: skip
     lines += _spread_lines(records)
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _spread_lines(records: Sequence[HumanResult]) -> list[str]:

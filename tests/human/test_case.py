@@ -11,11 +11,12 @@ import numpy as np
 import pytest
 
 from ioc_bench.human import WbdsData, load_step
+from ioc_bench.human.board import markdown
 from ioc_bench.human.case import HumanCaseSpec, ReferenceStep, parse_record, score_speed
 from ioc_bench.human.observe import leg_angles
 from ioc_bench.human.scoring import NOMINAL, beats, skill_score, solve_step
 from ioc_bench.human.suites import HUMAN_SUITES, SHIPPED_SUBJECTS, SPEED_CODES
-from ioc_bench.human.summary import markdown, pooled_r2, run_floors, summarize, weight_spread
+from ioc_bench.human.summary import pooled_r2, run_floors, summarize, weight_spread
 from ioc_bench.optimize import optimize_gait
 from ioc_bench.provenance import provenance
 
