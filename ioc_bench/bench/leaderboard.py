@@ -42,8 +42,9 @@ from ioc_bench.provenance import LEADERBOARD_SCHEMA, LEADERBOARD_SCHEMA_VERSION,
 from ioc_bench.weights import WEIGHT_SETS, penalised_feature
 
 #: The files a leaderboard is written as, in its output folder: the page, its data, every
-#: synthetic case as a table, and the page as one self-contained HTML file.
-FILES = ("README.md", "leaderboard.json", "cases.csv", "leaderboard.html")
+#: case of each track as a table (header only for a track the board does not hold, so no
+#: table of an earlier board stays beside it), and the page as one self-contained HTML file.
+FILES = ("README.md", "leaderboard.json", "cases.csv", "human_cases.csv", "leaderboard.html")
 #: The folder beside the board whose figures it shows.
 FIGURES = "figures"
 #: The columns of ``cases.csv``.
@@ -220,6 +221,12 @@ def _human_section(records: Sequence[Record], figures: Sequence[str]) -> list[st
     return [human_markdown(records, figures).rstrip("\n")]
 
 
+def _human_csv(records: Sequence[Record]) -> str:
+    from ioc_bench.human.board import cases_csv as human_cases_csv
+
+    return human_cases_csv(records)
+
+
 def is_synthetic_figure(path: str) -> bool:
     """Whether a figure beside the board is the synthetic track's: the names ``ioc-bench
     figures`` writes (:func:`ioc_bench.viz.figures.output_names`: ``figure4_*``, ``figure5_*``,
@@ -277,8 +284,8 @@ def _synthetic_sections(results: Sequence[CaseResult], figures: Sequence[str] = 
         "",
         *_robustness(results),
         "",
-        "Every case (one row each: estimated weights, errors, status, time) is in `cases.csv` beside this page "
-        "and in `leaderboard.json`.",
+        "Every case (one row each: estimated weights, errors, status, time) is in [`cases.csv`](cases.csv) beside "
+        "this page and in `leaderboard.json`.",
     ]
     return lines
 
@@ -548,7 +555,8 @@ class LeaderboardPlan:
             data["human"] = {"rows": summarize(human), "weight_spread": weight_spread(human)}
             data["human_cases"] = [_without_angles(r.to_dict()) for r in human]
         page = html_page(text, self.out, "ioc-bench leaderboard")
-        contents = (md, json_text(data).encode(), cases_csv(synthetic).encode(), page.encode())
+        tables = (cases_csv(synthetic), _human_csv(human))
+        contents = (md, json_text(data).encode(), *(t.encode() for t in tables), page.encode())
         return atomic_write_many({self.out / name: body for name, body in zip(FILES, contents, strict=True)})
 
 

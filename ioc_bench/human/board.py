@@ -4,6 +4,9 @@
 
 from __future__ import annotations
 
+import csv
+import io
+import math
 from collections.abc import Sequence
 
 from ioc_bench.human.opening import figure_caption, figure_lines, ranking_lines, rankings
@@ -21,4 +24,37 @@ def markdown(records: Sequence[HumanResult], figures: Sequence[str] = ()) -> str
     ours = [f for f in figures if figure_caption(f) is not None]
     if ours:
         lines += [*figure_lines(ours), ""]
-    return "\n".join([*lines, *detail_lines(records)]) + "\n"
+    lines += [*detail_lines(records), "", "Every case's scored speeds are in [`human_cases.csv`](human_cases.csv)."]
+    return "\n".join(lines) + "\n"
+
+
+#: The columns of the human track's per-case table (one row per case and scored speed).
+CSV_COLUMNS = (
+    "subject", "algorithm", "basis", "model", "task", "design", "train", "population", "seed", "status",
+    "features", "weights", "speed", "role", "continued_from", "rmse_deg", "copy_rmse_deg", "change_r2",
+    "step_length_error", "knee_at_strike_deg", "reason",
+)  # fmt: skip
+
+
+def cases_csv(records: Sequence[HumanResult]) -> str:
+    """Every human case's scored speeds as CSV rows (a failed case: one row without a speed)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    for r in records:
+        case = [
+            r.subject, r.algorithm, r.basis, r.model, r.task, r.design, "+".join((r.train, *r.also_train)),
+            "+".join(r.population), r.seed, r.status, " ".join(r.features),
+            "" if r.failed else " ".join(_number(w) for w in r.weights),
+        ]  # fmt: skip
+        if not r.scores:
+            writer.writerow([*case, "", "", "", "", "", "", "", "", " ".join(r.reason.split())])
+        for code, s in r.scores.items():
+            scored = [code, s.role, s.continued_from, _number(s.rmse_deg), _number(s.copy_rmse_deg)]
+            scored += [_number(s.change_r2), _number(s.step_length_error), _number(s.knee_at_strike_deg), ""]
+            writer.writerow([*case, *scored])
+    return buffer.getvalue()
+
+
+def _number(x: float | None) -> str:
+    return "" if x is None or not math.isfinite(x) else f"{x:.6g}"

@@ -145,7 +145,8 @@ def test_the_files_are_written_together_or_not_at_all(results_dir, tmp_path, mon
     with pytest.raises(OSError):
         write_leaderboard(load_results(results_dir)[:3], out)
     assert (md_path.read_bytes(), json_path.read_bytes()) == old
-    assert sorted(p.name for p in out.iterdir()) == ["README.md", "cases.csv", "leaderboard.html", "leaderboard.json"]
+    written = ["README.md", "cases.csv", "human_cases.csv", "leaderboard.html", "leaderboard.json"]
+    assert sorted(p.name for p in out.iterdir()) == written
 
 
 def test_a_board_written_into_the_results_is_not_read_back(results_dir, capsys):

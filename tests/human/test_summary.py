@@ -160,3 +160,20 @@ def test_a_failed_case_counts_its_predictions_as_failures() -> None:
     rows = {r["label"]: r for r in rankings([ok, failed])[0].rows}
     assert rows["b"]["predictions"] == 2 and rows["b"]["failures"] == 2 and math.isnan(rows["b"]["change_r2"])
     assert rows["a"]["failures"] == 0 and rows["a"]["change_r2"] == pytest.approx(1 - 1 / 9)
+
+
+def test_every_scored_speed_is_a_csv_row_and_a_failed_case_one_row_with_its_reason() -> None:
+    import csv
+    import io
+
+    from ioc_bench.human.board import CSV_COLUMNS, cases_csv
+
+    ok = _record("a", rmse=2.0, adaptation=1.0)
+    failed = dataclasses.replace(
+        _record("b", rmse=2.0, adaptation=1.0), status="failed", reason="x\ny", scores={}, weights=(math.nan,) * 3
+    )
+    rows = list(csv.DictReader(io.StringIO(cases_csv([ok, failed]))))
+    assert tuple(rows[0]) == CSV_COLUMNS
+    assert [r["speed"] for r in rows if r["algorithm"] == "a"] == list(ok.scores)
+    (b,) = [r for r in rows if r["algorithm"] == "b"]
+    assert b["speed"] == "" and b["reason"] == "x y" and b["weights"] == ""
