@@ -137,3 +137,10 @@ def names_a_set(spec: str) -> bool:
     except ValueError:
         return True
     return False
+
+
+def simplex_weight_sets(n: int, seed: int, n_features: int = len(COST_FEATURES)) -> tuple[str, ...]:
+    """``n`` weight sets drawn uniformly from the simplex (Dirichlet(1, ..., 1), seeded), each
+    written as comma-separated numbers to 3 decimals (a name no algorithm can be tuned to)."""
+    draws = np.random.default_rng(seed).dirichlet(np.ones(n_features), size=n)
+    return tuple(",".join(f"{x:.3f}" for x in w) for w in draws)

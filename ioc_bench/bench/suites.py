@@ -17,7 +17,7 @@ from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.human.suites import HUMAN_SUITES, HumanSuite
 from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET, get_model
-from ioc_bench.weights import WEIGHT_SETS, weight_sets
+from ioc_bench.weights import WEIGHT_SETS, simplex_weight_sets, weight_sets
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,9 @@ class Suite:
         ]
 
 
+#: The seed of the random-kinematics suite's weight sets.
+RANDOM_WEIGHTS_SEED = 2026
+
 #: The paper's conditions (``docs/spec.md``, "Conditions"), and the torque-free reading of its noise.
 PAPER_CONDITIONS = ("ideal", "ideal-fast", "noise", "noise-kinematics", "mass", "speed", "distractor")
 #: The paper's further work: several trials of one subject (both speeds) for one cost.
@@ -95,6 +98,13 @@ SUITES: dict[str, Suite | HumanSuite] = {
             "ideal condition on weight sets no algorithm was tuned on",
             weight_sets=("3,1,5", "1,4,2", "2,2,1", "5,2,1"),
             conditions=("ideal",),
+        ),
+        Suite(
+            "random-kinematics",
+            "noise-kinematics (angles and rates only, as people are observed) on 12 weight sets drawn uniformly "
+            f"from the simplex (seed {RANDOM_WEIGHTS_SEED})",
+            weight_sets=simplex_weight_sets(12, RANDOM_WEIGHTS_SEED),
+            conditions=("noise-kinematics",),
         ),
         Suite(
             "paper-3seeds",

@@ -319,17 +319,15 @@ def _listed(items: Sequence[str]) -> str:
 
 
 def figure_lines(figures: Sequence[str]) -> list[str]:
-    """The figures as Markdown images, each captioned from its name."""
+    """The figures as one paragraph of Markdown images (a gallery), each captioned from its name."""
     if not figures:
         return []
-    lines = [
+    images = [f"![{figure_caption(path) or Path(path).stem}]({path})" for path in figures]
+    return [
         "Case figures (each speed's leg angles, then each prediction's change of angles against the person's):",
         "",
+        " ".join(images),
     ]
-    for path in figures:
-        caption = figure_caption(path) or Path(path).stem
-        lines += [f"![{caption}]({path})", ""]
-    return lines[:-1]
 
 
 __all__ = ["Ranking", "figure_caption", "figure_lines", "headline", "rankings"]

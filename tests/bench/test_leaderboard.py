@@ -66,7 +66,9 @@ def test_written_files_state_method_seeds_and_versions(results_dir, tmp_path):
     md_path, json_path, *_ = write_leaderboard(load_results(results_dir), out, source="results/")
     md = md_path.read_text()
     assert "never edited by hand" in md and "**Method.**" in md and "**Seeds:** 0, 1, 2" in md
-    assert "casadi" in md and "percentile bootstrap" in md and "| algo | - | ideal | 6 |" in md
+    assert "casadi" in md and "percentile bootstrap" in md and "| algo | walker | 0.0" in md  # the grid's row
+    cells = (out / "cells.csv").read_text().splitlines()
+    assert len(cells) == 4 and cells[0].startswith("algorithm,family,label,condition,cases,")  # 3 cells
     assert "resamples the seeds within each weight set" in md  # the header says what the interval covers
     data = json.loads(json_path.read_text())
     assert {c["condition"] for c in data["cells"]} == {"ideal", "noise", "mass"}
@@ -124,7 +126,7 @@ def test_configs_never_share_a_cell_and_the_header_names_each(tmp_path, make_res
     md = markdown(load_results(tmp_path))
     assert "`log-barrier`: the algorithm's defaults (in full: `" in md  # e.g. where its forward solves start
     assert '`log-barrier [cfg 05519c9f]`: defaults except `{"max_iterations": 2, "n_random": 1}`' in md
-    assert "| log-barrier | - | ideal | 1 |" in md and "| log-barrier [cfg 05519c9f] | - | ideal | 1 |" in md
+    assert "| log-barrier | walker |" in md and "| log-barrier [cfg 05519c9f] | walker |" in md
 
 
 def test_the_files_are_written_together_or_not_at_all(results_dir, tmp_path, monkeypatch):
@@ -145,7 +147,7 @@ def test_the_files_are_written_together_or_not_at_all(results_dir, tmp_path, mon
     with pytest.raises(OSError):
         write_leaderboard(load_results(results_dir)[:3], out)
     assert (md_path.read_bytes(), json_path.read_bytes()) == old
-    written = ["README.md", "cases.csv", "human_cases.csv", "leaderboard.html", "leaderboard.json"]
+    written = ["README.md", "cases.csv", "cells.csv", "human_cases.csv", "leaderboard.html", "leaderboard.json"]
     assert sorted(p.name for p in out.iterdir()) == written
 
 
