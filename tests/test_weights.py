@@ -74,3 +74,14 @@ def test_property_parse_weights_gives_unit_weights_or_a_value_error(spec):
         return
     assert w.shape == (3,) and np.all(np.isfinite(w)) and np.all(w >= 0)
     assert np.linalg.norm(w) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_weight_sets_drawn_from_the_simplex_are_seeded_distinct_and_parse() -> None:
+    from ioc_bench.weights import parse_weights, simplex_weight_sets
+
+    drawn = simplex_weight_sets(12, seed=2026)
+    assert drawn == simplex_weight_sets(12, seed=2026) != simplex_weight_sets(12, seed=2027)
+    assert len(set(drawn)) == 12
+    values = np.array([[float(x) for x in w.split(",")] for w in drawn])
+    assert np.all(values >= 0) and np.allclose(values.sum(axis=1), 1.0, atol=2e-3)  # on the simplex, 3 decimals
+    assert all(np.isclose(np.linalg.norm(parse_weights(w)), 1.0) for w in drawn)
