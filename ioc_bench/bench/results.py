@@ -652,6 +652,8 @@ def board_records(path: str | os.PathLike) -> list[Record]:
         raise ValueError(f"{path} is not a board: {_one_line(exc)}") from None
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise ValueError(f"{path} is not a board: it has no list of cases (a leaderboard.json holds one)")
+    if not isinstance(data.get("human_cases", []), list):
+        raise ValueError(f"{path} is not a board: its human_cases is not a list")
     records: list[Record] = []
     for i, case in enumerate([*data["cases"], *data.get("human_cases", [])]):
         if not isinstance(case, dict):

@@ -98,7 +98,8 @@ def run(args: argparse.Namespace) -> int:
             )
             return 130
     with usage_errors():
-        results = [read_result(s.path(args.out), args.out) for s in specs if s.path(args.out).is_file()]
+        stored = [(s.key, read_result(s.path(args.out), args.out)) for s in specs if s.path(args.out).is_file()]
+    results = [r for _, r in stored]
     if args.json:
         synthetic, human = split_tracks(results)
         report = {"summary": summary.__dict__, "cells": [c.__dict__ for c in summarise(synthetic)]}
@@ -113,10 +114,12 @@ def run(args: argparse.Namespace) -> int:
             f"{summary.ran} run{retried}, {summary.skipped} already done, {summary.failed} failed, "
             f"{summary.wall_time:.0f} s"
         )
-        stored_failures = sum(r.failed for r in results)
-        if stored_failures:
+        failed = [(key, r) for key, r in stored if r.failed]
+        if failed:
             hint = "" if not args.keep_failed else "; rerun without --keep-failed to retry them"
-            say(f"{stored_failures} case(s) failed (listed in the leaderboard below){hint}")
+            say(f"{len(failed)} case(s) failed{hint}:")
+            for key, r in failed:
+                say(f"  {key}: {' '.join(r.reason.split())}")
         print(markdown(results, str(args.out)))
     return 0
 

@@ -241,6 +241,10 @@ def test_a_board_file_that_is_not_a_board_is_refused_in_one_line(tmp_path, capsy
     err = capsys.readouterr().err.strip()
     assert exc.value.code == 2
     assert "is not a board: it has no list of cases" in err and len(err.splitlines()) == 1
+    bad.write_text(json.dumps({"cases": [], "human_cases": 3}))
+    with pytest.raises(SystemExit):
+        main(["leaderboard", str(bad), "--out", str(tmp_path / "out")])
+    assert "its human_cases is not a list" in capsys.readouterr().err
 
 
 def test_a_board_writes_its_cases_as_csv_and_a_page_with_its_figures(results_dir, tmp_path):
