@@ -183,10 +183,6 @@ def _fmt(x: float, digits: int = 4) -> str:
     return "n/a" if not np.isfinite(x) else f"{x:.{digits}f}"
 
 
-def _sci(x: float) -> str:
-    return "n/a" if not np.isfinite(x) else f"{x:.3g}"
-
-
 def markdown(results: Sequence[Record], source: str = "results/", figures: Sequence[str] = ()) -> str:
     """The leaderboard as Markdown: a header (what the cases ran with), then the synthetic
     track's sections (ranking, grid, paper comparison, details) and the human track's;
@@ -509,11 +505,6 @@ def _configs_line(cells: Sequence[Cell], results: Sequence[CaseResult]) -> str:
         for label, cfg in configs.items()
     ]
     return "**Configs** (a row never mixes configs): " + "; ".join(parts) + "."
-
-
-def _cell_text(text: str) -> str:
-    """``text`` fit for one Markdown table cell (one line, no column separators)."""
-    return " ".join(text.split()).replace("|", "\\|")
 
 
 @dataclass(frozen=True)
