@@ -35,6 +35,7 @@ from ioc_bench.bench.ranking import grid_lines, paper_lines, rank, ranking_lines
 from ioc_bench.bench.results import result_config, run_label
 from ioc_bench.bench.robustness import auc_table
 from ioc_bench.bench.statistics import MIN_SEEDS_FOR_CI, RESAMPLES, stratified_mean_ci
+from ioc_bench.bench.statistics import finite_mean as _mean
 from ioc_bench.fileio import atomic_write_many, json_text
 from ioc_bench.model.catalogue import MODELS, get_model
 from ioc_bench.paths import PathError, check_output_dir, check_output_file
@@ -91,11 +92,6 @@ class Cell:
     fitting_regions: int = 0
     fitting_covered: int = 0
     basis: str = DEFAULT_BASIS
-
-
-def _mean(values: Sequence[float]) -> float:
-    arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
-    return float(arr.mean()) if arr.size else float("nan")
 
 
 def penalised_is_largest(result: CaseResult) -> bool | None:
@@ -265,11 +261,10 @@ def _synthetic_sections(results: Sequence[CaseResult], figures: Sequence[str] = 
     findings), then the details (method, every cell's scores, calibration, robustness);
     ``figures`` are the track's figure files present beside the board (relative paths)."""
     cells = summarise(results)
-    row_of = {id(r): row_condition(r) for r in results}
     lines = [
         "## Synthetic track",
         "",
-        *_first_screen(results, cells, row_of, figures),
+        *_first_screen(results, cells, figures),
         "",
         "### Details",
         "",
@@ -282,10 +277,8 @@ def _synthetic_sections(results: Sequence[CaseResult], figures: Sequence[str] = 
     return lines
 
 
-def _first_screen(
-    results: Sequence[CaseResult], cells: Sequence[Cell], row_of: dict[int, str], figures: Sequence[str]
-) -> list[str]:
-    ranked = rank(results, row_of)
+def _first_screen(results: Sequence[CaseResult], cells: Sequence[Cell], figures: Sequence[str]) -> list[str]:
+    ranked = rank(results, row_condition)
     headline = [f for f in figures if Path(f).name == "robustness.png"]
     others = [f for f in figures if f not in headline]
     lines = [
@@ -528,6 +521,7 @@ class LeaderboardPlan:
         text = markdown(results, source, board_figures(self.out))
         md = text.encode()
         synthetic, human = split_tracks(results)
+        cells = summarise(synthetic)
         data = {
             "schema": LEADERBOARD_SCHEMA,
             "schema_version": LEADERBOARD_SCHEMA_VERSION,
@@ -535,7 +529,7 @@ class LeaderboardPlan:
             "readme_sha256": hashlib.sha256(md).hexdigest(),
             "provenance": summarise_provenance(results),
             "seeds": sorted({r.seed for r in results}),
-            "cells": [asdict(c) for c in summarise(synthetic)],
+            "cells": [asdict(c) for c in cells],
             "cases": [
                 {k: v for k, v in r.to_dict().items() if k not in ("history", "oracle")} | {"label": run_label(r)}
                 for r in synthetic
@@ -547,7 +541,7 @@ class LeaderboardPlan:
             data["human"] = {"rows": summarize(human), "weight_spread": weight_spread(human)}
             data["human_cases"] = [_without_angles(r.to_dict()) for r in human]
         page = html_page(text, self.out, "ioc-bench leaderboard")
-        tables = (cells_csv(summarise(synthetic)), cases_csv(synthetic), _human_csv(human))
+        tables = (cells_csv(cells), cases_csv(synthetic), _human_csv(human))
         contents = (md, json_text(data).encode(), *(t.encode() for t in tables), page.encode())
         return atomic_write_many({self.out / name: body for name, body in zip(FILES, contents, strict=True)})
 

@@ -13,14 +13,13 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-
-import numpy as np
 
 from ioc_bench.bench.case import CaseResult
 from ioc_bench.bench.results import run_label
 from ioc_bench.bench.statistics import MIN_SEEDS_FOR_CI, stratified_mean_ci
+from ioc_bench.bench.statistics import finite_mean as _mean
 
 #: The paper's findings, one per condition (Rebula et al. 2019, section III).
 PAPER_FINDINGS = {
@@ -59,13 +58,13 @@ class Ranked:
         return len(self.conditions) == len(RANKED_CONDITIONS)
 
 
-def rank(results: Sequence[CaseResult], row_of: Mapping[int, str]) -> list[Ranked]:
+def rank(results: Sequence[CaseResult], row_of: Callable[[CaseResult], str]) -> list[Ranked]:
     """The ranking over the paper's conditions, best first (rows with every paper condition
-    first). ``row_of`` maps ``id(result)`` to the board's condition row of the result (the
-    named weight sets' rows only are ranked)."""
+    first). ``row_of`` gives a result's condition row on the board (the named weight sets'
+    rows only are ranked)."""
     groups: dict[tuple[str, str], list[CaseResult]] = defaultdict(list)
     for r in results:
-        if row_of[id(r)] in RANKED_CONDITIONS:
+        if row_of(r) in RANKED_CONDITIONS:
             groups[(r.model, run_label(r))].append(r)
     rows = [_ranked(model, label, rs) for (model, label), rs in groups.items()]
     return sorted(rows, key=lambda r: (not r.complete, _order(r.weight_error), r.model, r.label))
@@ -196,8 +195,3 @@ def paper_lines(cells: Sequence, fmt, model: str = "walker") -> list[str]:
 
 def _order(value: float) -> float:
     return value if math.isfinite(value) else math.inf
-
-
-def _mean(values: Sequence[float]) -> float:
-    arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
-    return float(arr.mean()) if arr.size else math.nan

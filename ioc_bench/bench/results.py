@@ -500,6 +500,11 @@ def select_results(root: str | os.PathLike, algorithms: Sequence[str] | None = N
     results = load_results(root)
     if not results:
         raise ValueError(no_results_message(root))
+    return _of_algorithms(results, algorithms)
+
+
+def _of_algorithms(results: Sequence[Record], algorithms: Sequence[str] | None) -> list[Record]:
+    """``results`` of ``algorithms`` (default: all); ``ValueError`` for one that has none."""
     present = sorted({r.algorithm for r in results})
     unknown = [a for a in algorithms or () if a not in present]
     if unknown:
@@ -675,12 +680,7 @@ def select_sources(sources: Sequence[str | os.PathLike], algorithms: Sequence[st
         records = board_records(source) if Path(source).is_file() else select_results(source)
         for record in records:
             by_case[(_track_name(record), case_key(record))] = record
-    results = list(by_case.values())
-    present = sorted({r.algorithm for r in results})
-    unknown = [a for a in algorithms or () if a not in present]
-    if unknown:
-        raise ValueError(f"algorithm(s) not in the results: {', '.join(unknown)}; present: {', '.join(present)}")
-    return [r for r in results if not algorithms or r.algorithm in algorithms]
+    return _of_algorithms(list(by_case.values()), algorithms)
 
 
 def case_key(record: Record) -> str:

@@ -28,6 +28,12 @@ RESAMPLES = 9999
 MIN_SEEDS_FOR_CI = 3
 
 
+def finite_mean(values: Sequence[float]) -> float:
+    """The mean of the finite ``values`` (NaN if there is none)."""
+    arr = np.asarray([v for v in values if np.isfinite(v)], dtype=float)
+    return float(arr.mean()) if arr.size else float("nan")
+
+
 def bootstrap_mean_ci(values: Sequence[float], seed: int = 0, level: float = 0.95) -> tuple[float, float] | None:
     """Percentile-bootstrap interval (95 % unless ``level`` says otherwise) of the mean of the
     finite ``values`` (None if fewer than two; a point if all are equal)."""

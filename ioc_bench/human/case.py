@@ -307,9 +307,8 @@ class HumanCaseSpec:
         for code in dict.fromkeys((*self.scored, *self.sources().values())):
             task = self.task_of(steps[code])
             cold[code], demos[code] = solve_demo(
-                dict(zip(self.features, weights)), steps[code], self.starts, self.seed, "estimate", model, task,
-                self._solve_basis,
-            )  # fmt: skip
+                weights, steps[code], self.starts, self.seed, "estimate", model, task, self._solve_basis
+            )
         estimate = dict(cold)
         for code, source in self.sources().items():
             if code != source and cold[source].success:

@@ -19,7 +19,7 @@ def _cases(algorithm: str, errors: dict[str, float], seeds=(0, 1, 2), weight_set
 
 
 def _rank(results):
-    return rank(results, {id(r): row_condition(r) for r in results})
+    return rank(results, row_condition)
 
 
 def test_each_condition_counts_once_however_many_cases_it_has() -> None:
