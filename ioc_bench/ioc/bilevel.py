@@ -280,6 +280,37 @@ class Bilevel(IOCAlgorithm):
         return sorted(ranked + further_starts(raw), key=lambda w: _error(fit, w))
 
 
+@dataclass(frozen=True)
+class Refined:
+    """A Gauss-Newton fit from given weights: the weights, each trial's forward optimum, the
+    status and message of the fit and its candidates."""
+
+    weights: np.ndarray
+    solutions: list[OracleSolution]
+    status: str
+    message: str
+    history: tuple[IterationRecord, ...]
+
+
+def refine(problem: IOCProblem, starts: list[np.ndarray], config: BilevelConfig | None = None) -> Refined | None:
+    """Bilevel's fit from the given weights, best first: Gauss-Newton from the first, and from
+    the next ones (up to ``restarts``) while the fit is more than noise, every forward solve
+    from the observation's projection; the fit with the lowest tracking error. Another
+    method's starts fitted as ``bilevel`` fits them. None when no forward solve succeeded."""
+    cfg = config or BilevelConfig()
+    fit = _Fit(problem, cfg)
+    floored = [unit(np.maximum(np.asarray(w, dtype=float), cfg.floor)) for w in starts]
+    try:
+        w, status, message, _ = _best_of_starts(problem, fit, floored)
+    except _Budget:
+        w, status, message = fit.best[1], "max_iterations", f"forward-solve budget ({cfg.max_solves}) spent"
+    if not _solved(fit, w):
+        w = fit.best[1]
+    if not _solved(fit, w):
+        return None
+    return Refined(w, fit.solve(w)[1], status, message, tuple(fit.history))
+
+
 def _fits(problem: IOCProblem, fit: _Fit, w: np.ndarray) -> bool:
     """Whether the optimum of ``w`` explains the observation within its noise (every trial solved)."""
     _, sols = fit.solve(w)
