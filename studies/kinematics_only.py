@@ -34,11 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ioc_bench.bench.case import _params, _problem
-from ioc_bench.bench.demos import demonstration
-from ioc_bench.bench.suites import get_suite
 from ioc_bench.ioc.bilevel import BilevelConfig, _error, _Fit
 from ioc_bench.ioc.fit import fit
+from ioc_bench.synthetic.case import _params, _problem
+from ioc_bench.synthetic.demos import demonstration
+from ioc_bench.synthetic.suites import get_suite
 
 
 def demonstration_error(problem, demo) -> float:

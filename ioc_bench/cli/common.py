@@ -37,9 +37,9 @@ def is_run_fault(exc: BaseException) -> bool:
     a file system error (full disk, a folder replaced by a file, no permission), a results
     folder or file the run cannot use, a demonstration file that does not read, a worker
     process that died. Anything else is a bug and keeps its traceback."""
-    from ioc_bench.bench.results import ResultFileError
     from ioc_bench.demo import DemonstrationFileError
     from ioc_bench.paths import PathError
+    from ioc_bench.runner.results import ResultFileError
     from ioc_bench.trajopt.multistart import WorkerDied
 
     return isinstance(exc, (OSError, ResultFileError, DemonstrationFileError, PathError, WorkerDied))

@@ -64,7 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.runner import run_one
+    from ioc_bench.runner.run import run_one
 
     if args.suite is not None:
         raise UsageError(f"a suite runs with: ioc-bench run --suite {args.suite} --algorithm {args.algorithm}")

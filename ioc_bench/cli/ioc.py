@@ -48,10 +48,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.case import run_case
-    from ioc_bench.bench.conditions import get_condition
     from ioc_bench.fileio import atomic_write_json
     from ioc_bench.ioc.registry import make_algorithm
+    from ioc_bench.synthetic.case import run_case
+    from ioc_bench.synthetic.conditions import get_condition
     from ioc_bench.viz.convergence import plot_convergence
 
     model_weights(args.weights, args.model)

@@ -2,7 +2,7 @@
 
 A :class:`HumanCaseSpec` is the case's identity (subject, training and predicted speeds,
 the training design, algorithm, config, seed, solve options), checked when made. It is a
-case of the benchmark's one case protocol (:mod:`ioc_bench.bench.protocol`): it names its
+case of the benchmark's one case protocol (:mod:`ioc_bench.runner.protocol`): it names its
 result file (:attr:`~HumanCaseSpec.key`), the inputs the runner prepares once for every
 case that shares them (:meth:`~HumanCaseSpec.needs`: the reference steps), and runs in a
 worker (:meth:`~HumanCaseSpec.run`): the fit step every track shares

@@ -33,19 +33,13 @@ import pytest
 
 import ioc_bench
 from ioc_bench import Demonstration, DemonstrationFileError, Task, optimize_gait, run_case
-from ioc_bench.bench import runner
-from ioc_bench.bench.leaderboard import write_leaderboard
-from ioc_bench.bench.results import (
-    CaseSpec,
-    ResultFileError,
-    load_results,
-    parse_result,
-    read_result,
-    results_directory,
-    write_result,
-)
 from ioc_bench.cli import main
 from ioc_bench.paths import PathError, check_output_dir, read_bytes
+from ioc_bench.runner import run as runner
+from ioc_bench.runner.leaderboard import write_leaderboard
+from ioc_bench.runner.results import ResultFileError, load_results, read_result, results_directory, write_result
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.results import parse_result
 from ioc_bench.viz.figures import make_figures
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "bad_input.md"

@@ -18,7 +18,7 @@ import json
 import os
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -26,11 +26,6 @@ import numpy as np
 
 from ioc_bench._version import __version__
 from ioc_bench.bases import DEFAULT_BASIS, forward_basis, get_basis
-from ioc_bench.bench.conditions import Condition, get_condition
-from ioc_bench.bench.demos import DemoRequest, ReferenceCache, demonstration
-from ioc_bench.bench.observe import observe
-from ioc_bench.bench.scoring import unit, weight_error
-from ioc_bench.bench.transfer import transfer, transfer_task
 from ioc_bench.cache import check_cache
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
@@ -50,6 +45,11 @@ from ioc_bench.metrics import trajectory_error
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.provenance import provenance
+from ioc_bench.synthetic.conditions import Condition, get_condition
+from ioc_bench.synthetic.demos import DemoRequest, ReferenceCache, demonstration
+from ioc_bench.synthetic.observe import observe
+from ioc_bench.synthetic.scoring import unit, weight_error
+from ioc_bench.synthetic.transfer import transfer, transfer_task
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, full_weights, parse_weights
 
 #: Stream of the observation-noise generator (kept apart from the algorithm's streams).
@@ -162,7 +162,7 @@ class CaseSpec:
 
     def transfer_request(self, params: GaitParams | None = None) -> DemoRequest | None:
         """The true weights' demonstration at the speed this case's cost is tested at
-        (:mod:`ioc_bench.bench.transfer`), or None if its speed has no counterpart (or the
+        (:mod:`ioc_bench.synthetic.transfer`), or None if its speed has no counterpart (or the
         case observes several speeds already)."""
         task = transfer_task(self.condition_def.demo_speed)
         if task is None or len(self.condition_def.speeds) > 1:
@@ -178,8 +178,13 @@ class CaseSpec:
             return self.true_weights
         return full_weights(self.true_weights, self.cost_features, basis)
 
-    # -- the case protocol (:mod:`ioc_bench.bench.protocol`) ---------------------------------------
+    # -- the case protocol (:mod:`ioc_bench.runner.protocol`) ---------------------------------------
     track = "synthetic"
+
+    @classmethod
+    def identity_fields(cls) -> tuple[str, ...]:
+        """The fields that name a case: a result file's name and content agree on each."""
+        return tuple(f.name for f in fields(cls) if f.init)
 
     def needs(self) -> list[DemoRequest]:
         """The demonstrations the case needs: every trial's and, if it has one, the one its cost
@@ -254,7 +259,7 @@ class CaseResult:
             dict), None if it reports none.
         covered: whether that region holds the true weights (None without a region).
         transfer: the estimated weights' optimum at the other speed against the true one
-            there (:class:`~ioc_bench.bench.transfer.Transfer` as a dict), None if the case
+            there (:class:`~ioc_bench.synthetic.transfer.Transfer` as a dict), None if the case
             has no other speed or failed.
         scoring_time: seconds spent scoring after the algorithm (re-solving its weights'
             step, the transfer solve), not counted in ``wall_time``.

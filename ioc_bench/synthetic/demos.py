@@ -5,7 +5,7 @@ once and reused by every case and suite that needs it. The cache directory is
 :func:`~ioc_bench.cache.cache_dir`; entries are keyed by a hash of the inputs and of
 :data:`SOLVER_REVISION`, written atomically, and checked against that key when read.
 
-Logged to ``ioc_bench.bench.demos``: a demonstration solved (INFO, with its time), read
+Logged to ``ioc_bench.synthetic.demos``: a demonstration solved (INFO, with its time), read
 from the cache (DEBUG), a cache entry that is not the one asked for or cannot be written
 (WARNING).
 """

@@ -1,1 +1,0 @@
-"""The benchmark: robustness conditions, demonstrations, cases, scores."""
