@@ -3,10 +3,10 @@
 A user iterating on an algorithm runs a suite, changes something, runs it again and asks
 what changed. Each run is its records (``ioc-bench compare`` reads them from two results
 folders, as the leaderboard does: :func:`ioc_bench.cli.compare.compare_folders`). Cases are
-paired by their identity: algorithm, model, cost basis, weight set, condition and seed, and the config too, unless an algorithm has exactly one
-config in each run (then its cases pair across the two configs: comparing a new config
-with the old one is what ``compare`` is for). Pairs are grouped in the board's cells
-(model, algorithm with its config, condition: :func:`~ioc_bench.synthetic.board.row_condition`)
+paired by their identity: algorithm, model, cost basis, weight set, condition and seed, and
+the config too, unless an algorithm has exactly one config in each run (then its cases pair
+across the two configs: comparing a new config with the old one is what ``compare`` is for).
+Pairs are grouped in the board's cells (model, algorithm with its config, condition: :func:`~ioc_bench.synthetic.board.row_condition`)
 and every score the board averages (:data:`SCORES`) is compared over the pairs in which
 both cases succeeded: the mean of B - A with a percentile-bootstrap interval over the
 pairs (:func:`~ioc_bench.synthetic.statistics.bootstrap_mean_ci`, seeded, the pairs being the
