@@ -7,9 +7,10 @@ paired by their identity: algorithm, model, cost basis, weight set, condition an
 the config too, unless an algorithm has exactly one config in each run (then its cases pair
 across the two configs: comparing a new config with the old one is what ``compare`` is for).
 Pairs are grouped in the board's cells (model, algorithm with its config, condition:
-:func:`~ioc_bench.synthetic.board.row_condition`) and every score the board averages (:data:`SCORES`) is compared over the pairs in which
-both cases succeeded: the mean of B - A with a percentile-bootstrap interval over the
-pairs (:func:`~ioc_bench.synthetic.statistics.bootstrap_mean_ci`, seeded, the pairs being the
+:func:`~ioc_bench.synthetic.board.row_condition`) and every score the board averages
+(:data:`SCORES`) is compared over the pairs in which both cases succeeded: the mean of B - A
+with a percentile-bootstrap interval over the pairs
+(:func:`~ioc_bench.synthetic.statistics.bootstrap_mean_ci`, seeded, the pairs being the
 units: paired differences are what a re-run changes).
 
 A score's verdict, lower being better for every one: ``better`` or ``worse`` when its
