@@ -47,7 +47,7 @@ def register_track(track: Track) -> Track:
             raise TrackError(f"track {track.name!r}: the records of track {other.name!r} already name no track")
         clash = sorted(set(track.suites) & set(other.suites))
         if clash:
-            raise TrackError(f"track {track.name!r}: suite {clash[0]!r} is already track {other.name!r}'s")
+            raise TrackError(f"track {track.name!r}: suite {clash[0]!r} is already one of track {other.name!r}")
     _REGISTRY[track.name] = track
     return track
 
