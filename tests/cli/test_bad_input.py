@@ -790,7 +790,7 @@ HOSTILE_HANDLING = [
      "tests/bench/test_results.py::test_out_of_range_values_are_refused, "
      "tests/test_hostile_inputs.py::test_property_a_spoilt_record_is_refused_with_one_line_naming_the_file"),
     ("run_case(demo=<penalize-knee demonstration>, weights='nominal') scores against the wrong truth",
-     "refused by the one case pipeline (bench/case.py): a demonstration of another case is a ValueError",
+     "refused by the one case pipeline (synthetic/case.py): a demonstration of another case is a ValueError",
      "the API row run_case(weights=\"penalize-knee\", demo=...) above"),
     ("outputs under /proc or /sys, through a link loop, with a 256-byte name, or '' pass a check "
      "(os.access says yes as root) and fail after the solve",
