@@ -140,7 +140,7 @@ def ranking_lines(rows: Sequence[Ranked], fmt) -> list[str]:
 
 def grid_lines(cells: Sequence, fmt) -> list[str]:
     """Mean weight error per (model, algorithm) row and condition column (``-``: not run);
-    ``cells`` are the leaderboard's :class:`~ioc_bench.runner.leaderboard.Cell` summaries."""
+    ``cells`` are the leaderboard's :class:`~ioc_bench.synthetic.board.Cell` summaries."""
     columns = list(dict.fromkeys(c.condition for c in cells))
     rows = list(dict.fromkeys((c.model, c.label) for c in cells))
     found = {(c.model, c.label, c.condition): c for c in cells}

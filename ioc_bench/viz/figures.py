@@ -408,7 +408,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
     """Figure name -> file name of everything :func:`make_figures` writes for ``results``.
 
     File names are built from checked identifiers only (an algorithm's name and config
-    digest, :func:`~ioc_bench.runner.results.run_slug`) and each must be a plain file name
+    digest, :func:`~ioc_bench.synthetic.results.run_slug`) and each must be a plain file name
     (:func:`~ioc_bench.paths.check_file_name`): content never names a path. Raises
     ``ValueError`` otherwise.
     """
