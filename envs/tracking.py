@@ -24,7 +24,7 @@ swing); the environment steps at its own ``dt`` and names torques by physical le
   and no impact, tangentially to the ground; a tracking error of 1e-4 leaves it hovering
   that high at the step's end, and holding the last knot's reference until it touched
   made the steps 8 % longer than the demonstration's and the walk drift into another
-  gait (docs/environment.md, "Grazing swing feet").
+  gait (docs/notes/2026-11-25-grazing-swing-feet.md).
 
 The policy keeps no state between calls: everything comes from the observation and
 ``info``, so one policy serves every environment of a vector environment.
