@@ -53,7 +53,7 @@ class PDGains:
     the +10 % leg-mass walker) from kp in {2, 3, 4} and kd in {0.1, 0.15, 0.2} with
     control at every physics step: every pair walked 10 steps with a feedback share of
     9-16 %. Through the environment (control every ``dt`` = 0.01) they still walk; the
-    shares are in docs/environment.md.
+    shares are in docs/notes/2026-11-25-grazing-swing-feet.md.
 
     Attributes:
         kp: stiffness (torque per rad, units m g L).
