@@ -8,8 +8,7 @@ frictionless contact (normal force only, MuJoCo ``condim`` 1) and the stance foo
 generated model's friction (``condim`` 3, coefficient ``params.friction``), swapping the
 two when the roles swap at a heel strike (:func:`set_stance_friction`). The feet get
 contact priority over the floor so that their own ``condim`` decides (MuJoCo otherwise
-takes the larger of the two geoms'). docs/environment.md, "Grazing swing feet", has the
-measurements.
+takes the larger of the two geoms'). The measurements: docs/notes/2026-11-25-grazing-swing-feet.md.
 
 Both MuJoCo models (:mod:`ioc_bench.model.mjcf`: the walker's point feet, the
 ``rolling-feet`` walker's rolling spheres) share one layout; where a foot meets the

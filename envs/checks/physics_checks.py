@@ -24,9 +24,9 @@ Checks 3-6 are inequalities the trajectory optimizer imposes; their limit is
 :data:`~ioc_bench.trajopt.solution.FEASIBILITY_TOL`, the constraint violation at which the
 benchmark's own solver still accepts a solution (everything is dimensionless: body mass,
 gravity and leg length 1). Checks 1 and 2 are equalities with a relative figure; their
-limit is :data:`~envs.checks.inverse_dynamics.ID_TOLERANCE` (0.1 %). docs/environment.md:
-"The physical checks" says why each limit is what it is, "Physical checks, measured" has
-the measurements.
+limit is :data:`~envs.checks.inverse_dynamics.ID_TOLERANCE` (0.1 %). docs/environment.md,
+"The physical checks", says why each limit is what it is; the measurements are in
+docs/notes/2026-12-03-physical-checks.md.
 """
 
 from __future__ import annotations
