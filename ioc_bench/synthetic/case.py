@@ -431,7 +431,8 @@ def run_spec(
     if truth is not None and not truth.solver.success:
         scored = replace(scored, transfer={"speed": other.task.speed, "status": "no demonstration"})
     elif truth is not None:
-        scored = replace(scored, transfer=transfer(np.array(scored.weights), spec.features, truth).to_dict())
+        moved = transfer(np.array(scored.weights), spec.features, truth, model=spec.gait_model)
+        scored = replace(scored, transfer=moved.to_dict())
     return replace(scored, scoring_time=time.perf_counter() - t1)
 
 
