@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.bases import DEFAULT_BASIS, get_basis
-from ioc_bench.model.catalogue import MODELS, get_model
+from ioc_bench.model.catalogue import DEFAULT_MODEL, MODELS, get_model
 from ioc_bench.runner.protocol import BoardSection
 from ioc_bench.synthetic.case import CaseResult
 from ioc_bench.synthetic.conditions import CONDITIONS
@@ -343,7 +343,7 @@ def _misfit_sentence(cells: Sequence[Cell]) -> str:
     by: dict[str, list[Cell]] = defaultdict(list)
     for c in cells:
         if c.tested:
-            by[f"{c.label} ({c.model})" if c.model != "walker" else c.label].append(c)
+            by[f"{c.label} ({c.model})" if c.model != DEFAULT_MODEL else c.label].append(c)
     if not by:
         return "No algorithm here tests whether its model fits the observation."
     shares = [f"{label} {sum(c.flagged for c in cs)}/{sum(c.tested for c in cs)}" for label, cs in by.items()]

@@ -16,6 +16,7 @@ from collections import defaultdict
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 from ioc_bench.synthetic.case import CaseResult
 from ioc_bench.synthetic.results import run_label
 from ioc_bench.synthetic.statistics import MIN_SEEDS_FOR_CI, stratified_mean_ci
@@ -160,7 +161,7 @@ def _grid_cell(cell, fmt) -> str:
     return fmt(cell.weight_error) + (f" ({cell.failures} failed)" if cell.failures else "")
 
 
-def paper_lines(cells: Sequence, fmt, model: str = "walker") -> list[str]:
+def paper_lines(cells: Sequence, fmt, model: str = DEFAULT_MODEL) -> list[str]:
     """Per paper condition, the paper's finding beside each algorithm's weight error on the
     paper's model (and how often the penalised weight came out largest); the hardest
     condition of each algorithm in bold."""
