@@ -56,7 +56,7 @@ def measure(spec, nearer: float) -> dict:
     demos = [demonstration(r) for r in requests]
     problem = _problem(spec, _params(spec, None, demos[0]), demos)
     t0 = time.perf_counter()
-    outcome = fit(spec.algorithm, spec.config, problem)
+    outcome = fit(spec.make_algorithm(), problem)
     seconds = time.perf_counter() - t0
     truth = spec.true_over_features()
     row = {"weight_set": spec.weight_set, "seed": spec.seed, "algorithm": spec.algorithm, "config": spec.config}

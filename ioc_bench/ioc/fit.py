@@ -1,7 +1,7 @@
 """The fit step every track runs: an algorithm on a problem, its answer checked at the boundary.
 
-Synthetic and human cases alike hand the algorithm their case built (once, from the
-registry) the problem, time it, count its forward solves, and check what it returned against the plugin contract
+Synthetic and human cases alike build their algorithm once (from the registry), hand it the
+problem, time it, count its forward solves, and check what it returned against the plugin contract
 (:mod:`ioc_bench.ioc.contract`). Whatever goes wrong (the algorithm raises, returns
 something the contract refuses, or is given several trials it cannot take) becomes a
 :class:`Fit` with a reason, never an exception: a failed fit is a recorded result.
