@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ioc_bench.bench.suites import get_suite
 from ioc_bench.demo import Demonstration
+from ioc_bench.synthetic.suites import get_suite
 
 
 def solve_all(suite_name: str, workers: int | None) -> dict[str, dict]:

@@ -22,10 +22,10 @@ import time
 
 import numpy as np
 
-from ioc_bench.bench.observe import observe
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.optimize import optimize_gait
+from ioc_bench.synthetic.observe import observe
 from ioc_bench.weights import WEIGHT_SETS
 
 

@@ -15,8 +15,8 @@ import argparse
 import statistics
 from collections import defaultdict
 
-from ioc_bench.bench.results import load_results
-from ioc_bench.bench.suites import get_suite
+from ioc_bench.runner.results import load_results
+from ioc_bench.synthetic.suites import get_suite
 
 
 def main() -> None:

@@ -21,10 +21,11 @@ demonstration therefore counts a touchdown as the landing only beyond
 closed-loop check of the eight benchmark demonstrations (10 steps each), the grazes began
 up to 0.71 of the step ahead; of the 80 landings 76 began 0.93-1.08 of it ahead, three
 at 0.76-0.79 (penalize-knee 0.27, once its walk had drifted), and one began as a graze
-at 0.38 and slid, frictionless, into the landing zone (docs/environment.md, "Grazing
-swing feet"). A standing start has no demonstration and no step length: its landing distance
-is 0, any touchdown ahead of the stance foot is a landing (which also keeps a trailing
-foot that scuffs the floor just after lift-off from counting).
+at 0.38 and slid, frictionless, into the landing zone
+(docs/notes/2026-11-25-grazing-swing-feet.md). A standing start has no demonstration and
+no step length: its landing distance is 0, any touchdown ahead of the stance foot is a
+landing (which also keeps a trailing foot that scuffs the floor just after lift-off from
+counting).
 """
 
 from __future__ import annotations

@@ -8,8 +8,7 @@ frictionless contact (normal force only, MuJoCo ``condim`` 1) and the stance foo
 generated model's friction (``condim`` 3, coefficient ``params.friction``), swapping the
 two when the roles swap at a heel strike (:func:`set_stance_friction`). The feet get
 contact priority over the floor so that their own ``condim`` decides (MuJoCo otherwise
-takes the larger of the two geoms'). docs/environment.md, "Grazing swing feet", has the
-measurements.
+takes the larger of the two geoms'). The measurements: docs/notes/2026-11-25-grazing-swing-feet.md.
 
 Both MuJoCo models (:mod:`ioc_bench.model.mjcf`: the walker's point feet, the
 ``rolling-feet`` walker's rolling spheres) share one layout; where a foot meets the
@@ -52,6 +51,38 @@ def build_model(params: MujocoParams | None = None, contact: ContactSettings | N
     ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
     """
     return mujoco.MjModel.from_xml_string(model_mjcf(params or WalkerParams(), contact or DEFAULT_CONTACT))
+
+
+@dataclass(frozen=True, eq=False)
+class Physics:
+    """The MuJoCo model of one set of parameters, compiled once, with its data: what a
+    replay's physical checks share (each used to compile its own from the MJCF).
+
+    Constraints are disabled: the checks evaluate inverse dynamics (which must not see
+    contacts or limits) and forward kinematics (which never does); none integrates. Each
+    check sets the state it reads (``qpos``, ``qvel``, ``qacc``) at every knot before asking.
+    """
+
+    params: MujocoParams
+    model: mujoco.MjModel
+    data: mujoco.MjData
+
+    @classmethod
+    def of(cls, params: MujocoParams) -> Physics:
+        """The checks' model of ``params`` and its data."""
+        model = build_model(params)
+        model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+        return cls(params, model, mujoco.MjData(model))
+
+
+def check_physics(physics: Physics | None, params: MujocoParams) -> Physics:
+    """``physics`` if it is the model of ``params`` (built now if None); ``ValueError`` if
+    it is another's, so a check never judges a demonstration against the wrong model."""
+    if physics is None:
+        return Physics.of(params)
+    if physics.params is not params and physics.params.to_dict() != params.to_dict():
+        raise ValueError("the MuJoCo physics given is of other parameters than the check's")
+    return physics
 
 
 def foot_roll(params: MujocoParams) -> float:

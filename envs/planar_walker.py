@@ -55,8 +55,13 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     (friction on the stance foot only; a heel strike only beyond the landing distance), so
     a mid-swing graze of the benchmark's steps is neither a scuff nor a heel strike.
 
-    Spaces, reward, ``info``, starting state, termination, state, arguments, rendering and
-    the registered ids are in docs/environment.md, with the measurements behind them.
+    Actions: 4 joint torques (hips, then knees; leg a, then b) in ``[-max_torque, max_torque]``.
+    Observations: 17 numbers, the positions without the hip's x (hip height, torso and joint
+    angles), the velocities and the previous torque (18 with the hip's x).
+    Arguments: the model (``params``), the reward's ``weights``, a ``demonstration`` every
+    reset starts from, reward scales, ``frame_skip``, fall limits, noise, contact settings
+    and rendering. Each is described in docs/environment.md, with the reward, ``info``,
+    starting state, termination and state; the measurements are in docs/notes/.
     """
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 100}

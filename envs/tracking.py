@@ -24,7 +24,7 @@ swing); the environment steps at its own ``dt`` and names torques by physical le
   and no impact, tangentially to the ground; a tracking error of 1e-4 leaves it hovering
   that high at the step's end, and holding the last knot's reference until it touched
   made the steps 8 % longer than the demonstration's and the walk drift into another
-  gait (docs/environment.md, "Grazing swing feet").
+  gait (docs/notes/2026-11-25-grazing-swing-feet.md).
 
 The policy keeps no state between calls: everything comes from the observation and
 ``info``, so one policy serves every environment of a vector environment.
@@ -53,7 +53,7 @@ class PDGains:
     the +10 % leg-mass walker) from kp in {2, 3, 4} and kd in {0.1, 0.15, 0.2} with
     control at every physics step: every pair walked 10 steps with a feedback share of
     9-16 %. Through the environment (control every ``dt`` = 0.01) they still walk; the
-    shares are in docs/environment.md.
+    shares are in docs/notes/2026-11-25-grazing-swing-feet.md.
 
     Attributes:
         kp: stiffness (torque per rad, units m g L).

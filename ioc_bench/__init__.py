@@ -22,10 +22,10 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 #: Where each public name lives; imported on first use, so ``import ioc_bench`` (and the
 #: command line's start, when Ctrl-C must already be honoured) does not load CasADi.
 _PUBLIC = {
-    "CaseResult": "ioc_bench.bench.case",
-    "run_case": "ioc_bench.bench.case",
-    "CONDITIONS": "ioc_bench.bench.conditions",
-    "Condition": "ioc_bench.bench.conditions",
+    "CaseResult": "ioc_bench.synthetic.case",
+    "run_case": "ioc_bench.synthetic.case",
+    "CONDITIONS": "ioc_bench.synthetic.conditions",
+    "Condition": "ioc_bench.synthetic.conditions",
     "Demonstration": "ioc_bench.demo",
     "DemonstrationFileError": "ioc_bench.demo",
     "ALL_FEATURES": "ioc_bench.features",

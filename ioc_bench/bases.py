@@ -41,12 +41,18 @@ class CostBasis:
         """Unit weights over the basis's features on ``model`` from one of its set names or
         anything :func:`~ioc_bench.weights.parse_weights` reads (numbers over the model's
         effort features leave the others at 0)."""
-        sets = self.weight_sets(model)
-        if isinstance(spec, str) and names_a_set(spec):
-            if spec not in sets:
-                raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(sets)}")
-            return normalize(sets[spec])
-        return parse_weights(spec, self.features(model))
+        return parse_basis_weights(spec, self.features(model))
+
+
+def parse_basis_weights(spec: WeightSpec, features: Sequence[str]) -> np.ndarray:
+    """Unit weights over a basis's ``features`` (:meth:`CostBasis.features`, computed once by
+    the caller) from one of its set names or anything :func:`~ioc_bench.weights.parse_weights` reads."""
+    sets = weight_sets(features)
+    if isinstance(spec, str) and names_a_set(spec):
+        if spec not in sets:
+            raise ValueError(f"unknown weight set {spec!r}; valid: {', '.join(sets)}")
+        return normalize(sets[spec])
+    return parse_weights(spec, features)
 
 
 #: The basis every track uses unless told otherwise: the paper's effort features.

@@ -22,8 +22,9 @@ import numpy as np
 from ioc_bench.checks import MAX_INT, json_fields, load_json, shown
 from ioc_bench.features import COST_FEATURES, model_features
 from ioc_bench.fileio import atomic_write
-from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.catalogue import DEFAULT_MODEL, get_model
 from ioc_bench.model.gait_model import GaitParams
+from ioc_bench.model.walker import WALKER
 from ioc_bench.paths import PathError, check_output_file, read_bytes
 from ioc_bench.task import Task
 from ioc_bench.trajectory import Trajectory
@@ -76,7 +77,7 @@ class Demonstration:
     n_intervals: int = 0
     lam_x: np.ndarray = field(default_factory=lambda: np.zeros(0))
     lam_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    model: str = "walker"
+    model: str = DEFAULT_MODEL
     gait: GaitFigures | None = None
     local_minimum: LocalMinimumCheck | None = None
     seed: int | None = None
@@ -153,7 +154,7 @@ class Demonstration:
         for name in traj_fields:
             _numeric(arrays[_TRAJ_PREFIX + name], name, ndim=0 if name == "dt" else None)
         traj = Trajectory.from_arrays({n: arrays[_TRAJ_PREFIX + n] for n in traj_fields})
-        model = get_model(meta.get("model", "walker"))
+        model = get_model(meta.get("model", WALKER.name))  # a file from before models were named: the walker's
         params = model.params_from_dict(_object(meta["params"], "params"))
         _check_shapes(traj, model.linkage(params))
         names = model_features(model)

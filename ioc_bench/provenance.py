@@ -1,6 +1,6 @@
 """Where a record came from: the commit and the package versions a case ran with.
 
-Every case record (:class:`~ioc_bench.bench.case.CaseResult`,
+Every case record (:class:`~ioc_bench.synthetic.case.CaseResult`,
 :class:`~ioc_bench.human.record.HumanResult`) carries :func:`provenance` as it was when the
 case ran, in the process that ran it: ``{"commit", "dirty", "versions"}``. ``commit`` is the
 full SHA-1 of the git checkout ioc_bench was imported from (None if it is not one, e.g. an

@@ -1,6 +1,6 @@
 """Solver timing (``ioc-bench solver-timing``): medians of cold, warm and multi-start solves on this machine.
 
-This times the trajectory optimizer only; the IOC benchmark itself is :mod:`ioc_bench.bench`.
+This times the trajectory optimizer only; the IOC benchmark itself is :mod:`ioc_bench.synthetic`.
 
 - cold: one solve from a perturbed rough guess (a different start each repeat);
 - warm: from the nominal optimum's primal-dual point, re-solve for weights perturbed by

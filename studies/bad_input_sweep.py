@@ -443,9 +443,11 @@ def _spoil_demo(good: bytes, path: Path, meta_change: Callable[[dict], str]) -> 
 
 def api(w: World, cwd: Path) -> list[Outcome]:
     from ioc_bench import Demonstration, Task, optimize_gait
-    from ioc_bench.bench.leaderboard import write_leaderboard
-    from ioc_bench.bench.results import CaseSpec, load_results, parse_result, read_result
-    from ioc_bench.bench.runner import run_cases
+    from ioc_bench.runner.leaderboard import write_leaderboard
+    from ioc_bench.runner.results import load_results, read_result
+    from ioc_bench.runner.run import run_cases
+    from ioc_bench.synthetic.case import CaseSpec
+    from ioc_bench.synthetic.results import parse_result
     from ioc_bench.viz.figures import make_figures
 
     out = []
@@ -509,7 +511,8 @@ def main() -> int:
     args = parser.parse_args()
 
     from ioc_bench import optimize_gait
-    from ioc_bench.bench.results import CaseSpec, write_result
+    from ioc_bench.runner.results import write_result
+    from ioc_bench.synthetic.case import CaseSpec
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
     from conftest import synthetic_result  # the tests' plausible result, without running anything
@@ -547,7 +550,7 @@ def main() -> int:
 
 def _set_traps() -> None:
     """Replace everything that solves with a trap: an input that reaches it was checked too late."""
-    from ioc_bench.bench import runner
+    from ioc_bench.runner import run as runner
     from ioc_bench.trajopt.forward_problem import ForwardProblem
 
     def trap(*args, **kwargs):

@@ -69,7 +69,7 @@ a failed projection's retry adds one):
 
 The times are an estimate, not a measurement: the solves times :data:`SECONDS_PER_SOLVE`
 (walker 1.5-3 s a cold solve with the step length free: ``human_step_lengths.py`` takes ~3
-min for 135; ankle 8-15 s, ``docs/feet.md``'s 9.5-17 s measured under load, about 5x the
+min for 135; ankle 8-15 s, 9.5-17 s under load in docs/notes/2026-12-03-feet-fit-and-solve-time.md, about 5x the
 walker), plus some seconds per problem built. Whether work and collision make solves slower
 is not measured (a solve that runs to IPOPT's 500 iterations takes several times a typical
 one). ``--plan`` prints the same for what is left. Parts under an hour each on

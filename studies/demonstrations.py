@@ -12,8 +12,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.bench.demos import demonstration
 from ioc_bench.features import COST_FEATURES, TIME_UNIT
+from ioc_bench.synthetic.demos import demonstration
 from ioc_bench.table1 import PENALISES
 from ioc_bench.task import FAST_SPEED, NOMINAL_SPEED, Task
 from ioc_bench.weights import WEIGHT_SETS, parse_weights

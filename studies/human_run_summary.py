@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from ioc_bench.bench.results import select_results
 from ioc_bench.human.record import HumanResult
 from ioc_bench.human.summary import pooled_r2
+from ioc_bench.runner.results import select_results
 
 
 def _finite(values) -> list[float]:

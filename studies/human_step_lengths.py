@@ -1,8 +1,8 @@
 """Which step lengths the walker's optima take over the effort weights, at a person's speed
-(docs/human.md, "What the speed-only task shows"): for each shipped subject at one speed, the
-subject's walker given the speed only, solved (3 seeded starts, the cheapest kept) for every
-weight direction of a simplex lattice over (hip, knee, dtau); its step length against the
-person's, and its leg-angle RMSE.
+(docs/notes/2026-12-07-human-committed-run.md, "What the speed-only task shows"): for each
+shipped subject at one speed, the subject's walker given the speed only, solved (3 seeded
+starts, the cheapest kept) for every weight direction of a simplex lattice over (hip, knee,
+dtau); its step length against the person's, and its leg-angle RMSE.
 
     python studies/human_step_lengths.py --speed T05 --divisions 4   # ~3 min on 1 core
 """

@@ -19,13 +19,13 @@ import dataclasses
 import numpy as np
 from scipy.signal import savgol_filter
 
-from ioc_bench.bench.case import NOISE_STREAM
-from ioc_bench.bench.conditions import get_condition
-from ioc_bench.bench.demos import demonstration
-from ioc_bench.bench.observe import observe
 from ioc_bench.features import COST_FEATURES, evaluate
 from ioc_bench.ioc.problem import PROJECTION_SCALE, IOCProblem
 from ioc_bench.model.params import WalkerParams
+from ioc_bench.synthetic.case import NOISE_STREAM
+from ioc_bench.synthetic.conditions import get_condition
+from ioc_bench.synthetic.demos import demonstration
+from ioc_bench.synthetic.observe import observe
 from ioc_bench.task import Task
 from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
 from ioc_bench.trajopt.solution import StartPoint

@@ -34,11 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ioc_bench.bench.case import _params, _problem
-from ioc_bench.bench.demos import demonstration
-from ioc_bench.bench.suites import get_suite
 from ioc_bench.ioc.bilevel import BilevelConfig, _error, _Fit
 from ioc_bench.ioc.fit import fit
+from ioc_bench.synthetic.case import _params, _problem
+from ioc_bench.synthetic.demos import demonstration
+from ioc_bench.synthetic.suites import get_suite
 
 
 def demonstration_error(problem, demo) -> float:
@@ -56,7 +56,7 @@ def measure(spec, nearer: float) -> dict:
     demos = [demonstration(r) for r in requests]
     problem = _problem(spec, _params(spec, None, demos[0]), demos)
     t0 = time.perf_counter()
-    outcome = fit(spec.algorithm, spec.config, problem)
+    outcome = fit(spec.make_algorithm(), problem)
     seconds = time.perf_counter() - t0
     truth = spec.true_over_features()
     row = {"weight_set": spec.weight_set, "seed": spec.seed, "algorithm": spec.algorithm, "config": spec.config}

@@ -10,9 +10,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ioc_bench.bench.results import load_results
-from ioc_bench.bench.runner import run_cases
-from ioc_bench.bench.suites import Suite
+from ioc_bench.runner.results import load_results
+from ioc_bench.runner.run import run_cases
+from ioc_bench.synthetic.suites import Suite
 from ioc_bench.weights import WEIGHT_SETS
 
 SUITE = Suite("weight-floor", "distractor, 4 weight sets, seed 0", tuple(WEIGHT_SETS), ("distractor",))

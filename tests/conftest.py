@@ -66,7 +66,7 @@ def _isolated_cache(tmp_path_factory):
 @pytest.fixture(scope="session")
 def penalize_knee_cached(_isolated_cache) -> Demonstration:
     """The benchmark's penalize-knee demonstration at speed 0.27 (seed 0), solved once and cached."""
-    from ioc_bench.bench.demos import demonstration
+    from ioc_bench.synthetic.demos import demonstration
     from ioc_bench.weights import parse_weights
 
     return demonstration(parse_weights("penalize-knee"))
@@ -75,7 +75,7 @@ def penalize_knee_cached(_isolated_cache) -> Demonstration:
 @pytest.fixture(scope="session")
 def ideal_nominal_cached(_isolated_cache) -> Demonstration:
     """The benchmark's nominal demonstration (15 starts), solved once and cached."""
-    from ioc_bench.bench.demos import demonstration
+    from ioc_bench.synthetic.demos import demonstration
     from ioc_bench.weights import parse_weights
 
     return demonstration(parse_weights("nominal"))

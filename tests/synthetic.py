@@ -40,7 +40,7 @@ def synthetic_result(
     """A plausible case result without running anything (an estimate ``weight_error`` from the truth)."""
     import math
 
-    from ioc_bench.bench.case import CaseResult, CaseSpec
+    from ioc_bench.synthetic.case import CaseResult, CaseSpec
 
     spec = CaseSpec(algorithm, weight_set, condition, seed, basis=basis)
     features = spec.features
@@ -87,7 +87,8 @@ def grid_errors(seed: int = 0) -> dict[tuple, float]:
 
 def write_run(root, errs: dict[tuple, float], failed=(), configs=None):
     """A results folder holding a case per entry of ``errs`` (failed where listed), as ``run --out`` writes it."""
-    from ioc_bench.bench.results import CaseSpec, write_result
+    from ioc_bench.runner.results import write_result
+    from ioc_bench.synthetic.case import CaseSpec
 
     configs = configs or {}
     for (alg, cond, ws, seed), error in errs.items():

@@ -31,15 +31,6 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from ioc_bench.bench.conditions import CONDITIONS
-from ioc_bench.bench.results import (
-    CaseSpec,
-    ResultFileError,
-    load_results,
-    parse_result,
-    stored_result,
-    write_result,
-)
 from ioc_bench.checks import MAX_JSON_DEPTH, load_json
 from ioc_bench.cli import main
 from ioc_bench.paths import (
@@ -50,6 +41,10 @@ from ioc_bench.paths import (
     check_output_file,
     read_bytes,
 )
+from ioc_bench.runner.results import ResultFileError, load_results, stored_result, write_result
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.conditions import CONDITIONS
+from ioc_bench.synthetic.results import parse_result
 from ioc_bench.task import Task
 from ioc_bench.weights import WEIGHT_SETS
 
@@ -334,7 +329,7 @@ _COMMANDS = [
 def test_property_every_command_refuses_a_hostile_path_before_any_work(
     tmp_path_factory, make_result, command, recipe, capsys, monkeypatch
 ):
-    from ioc_bench.bench import runner
+    from ioc_bench.runner import run as runner
     from ioc_bench.trajopt.forward_problem import ForwardProblem
 
     def forbidden(*args, **kwargs):

@@ -12,13 +12,13 @@ from types import SimpleNamespace
 
 import pytest
 
-from ioc_bench.bench.demos import DemoRequest, demonstration
-from ioc_bench.bench.executor import Job, failure_of
-from ioc_bench.bench.results import write_result
-from ioc_bench.bench.runner import RunPlan
-from ioc_bench.bench.suites import get_suite
 from ioc_bench.cli import main
 from ioc_bench.model.params import WalkerParams
+from ioc_bench.runner.executor import Job, failure_of
+from ioc_bench.runner.results import write_result
+from ioc_bench.runner.run import RunPlan
+from ioc_bench.synthetic.demos import DemoRequest, demonstration
+from ioc_bench.synthetic.suites import get_suite
 from ioc_bench.task import Task
 from ioc_bench.weights import parse_weights
 
@@ -83,16 +83,16 @@ def test_a_run_logs_its_stages_and_each_case_and_prints_nothing(tmp_path, make_r
         summary = plan.run(on_stage=stages.append)
     assert (summary.ran, summary.skipped, summary.failed) == (3, 1, 1)
 
-    info = _messages(caplog, "ioc_bench.bench.runner", logging.INFO)
+    info = _messages(caplog, "ioc_bench.runner.run", logging.INFO)
     assert f"1 of 4 case(s) already done in {tmp_path}" in info
     assert stages and all(stage in info for stage in stages)  # the callback still gets every stage, and the log too
     assert stages[0].startswith("preparing ") and stages[-1] == "running 3 case(s)"
     for spec in ok:
         assert f"case {spec.key}: weight error 0.0100, 2 s" in info
     assert info[-1].startswith("run finished: 3 run, 1 already done, 1 failed, ")
-    warnings = _messages(caplog, "ioc_bench.bench.runner", logging.WARNING)
+    warnings = _messages(caplog, "ioc_bench.runner.run", logging.WARNING)
     assert warnings == [f"case {dies.key}: FAILED (worker exited with code 3 before reporting), 0 s"]
-    started = _messages(caplog, "ioc_bench.bench.executor", logging.INFO)
+    started = _messages(caplog, "ioc_bench.runner.executor", logging.INFO)
     assert sorted(started) == sorted(f"case {spec.key} started" for spec in [dies, *ok])
     assert capsys.readouterr() == ("", "")
 
@@ -103,12 +103,12 @@ def test_a_run_logs_nothing_below_warning_unless_asked(tmp_path, make_result, mo
     plan = RunPlan(specs, tmp_path, _Executor(make_result, specs[0].key), time_limit=60.0, keep_failed=False)
     with caplog.at_level(logging.WARNING, logger="ioc_bench"):
         plan.run()
-    assert [(r.name, r.levelname) for r in caplog.records] == [("ioc_bench.bench.runner", "WARNING")]
+    assert [(r.name, r.levelname) for r in caplog.records] == [("ioc_bench.runner.run", "WARNING")]
 
 
 def test_a_worker_that_dies_is_logged_as_a_warning(caplog):
-    from ioc_bench.bench import process_pool
-    from ioc_bench.bench.case import CaseSpec
+    from ioc_bench.runner import process_pool
+    from ioc_bench.synthetic.case import CaseSpec
 
     spec = CaseSpec("log-barrier", "nominal", "ideal", 0)
     ctx = mp.get_context("fork")
@@ -123,7 +123,7 @@ def test_a_worker_that_dies_is_logged_as_a_warning(caplog):
             time.sleep(0.01)
     assert result is not None and result.reason == "worker exited with code 3 before reporting"
     [record] = caplog.records
-    assert record.name == "ioc_bench.bench.process_pool" and record.levelno == logging.WARNING
+    assert record.name == "ioc_bench.runner.process_pool" and record.levelno == logging.WARNING
     assert record.getMessage() == f"worker {process.pid} of case {spec.key} exited with code 3 before reporting"
 
 
@@ -134,7 +134,7 @@ def test_a_demonstration_logs_its_solve_cache_hit_and_a_broken_entry(
     solves = []
     monkeypatch.setattr(DemoRequest, "solve", lambda self, workers=None: solves.append(self) or nominal_demo)
     request = DemoRequest(parse_weights("nominal"), WalkerParams(), Task(0.27), seed=0, starts=1)
-    name = "ioc_bench.bench.demos"
+    name = "ioc_bench.synthetic.demos"
 
     with caplog.at_level(logging.DEBUG, logger="ioc_bench"):
         demonstration(request)
@@ -182,8 +182,8 @@ def test_the_command_line_prints_the_library_log_only_when_asked(tmp_path, make_
     logged = capsys.readouterr()
     assert logged.out == plain.out
     lines = logged.err.splitlines()
-    assert f"INFO ioc_bench.bench.runner: 4 of 4 case(s) already done in {tmp_path}" in lines
-    assert any(line.startswith("INFO ioc_bench.bench.runner: run finished: 0 run, 4 already done") for line in lines)
+    assert f"INFO ioc_bench.runner.run: 4 of 4 case(s) already done in {tmp_path}" in lines
+    assert any(line.startswith("INFO ioc_bench.runner.run: run finished: 0 run, 4 already done") for line in lines)
     assert [line for line in lines if not line.startswith("INFO ioc_bench.")] == plain.err.splitlines()
     assert all(isinstance(h, logging.NullHandler) for h in logging.getLogger("ioc_bench").handlers)  # left as found
     assert logging.getLogger("ioc_bench").level == logging.NOTSET
@@ -201,7 +201,7 @@ def test_a_bad_log_level_is_refused_in_one_line(capsys):
 
 def test_a_warning_with_no_logging_configured_prints_nothing(tmp_path):
     """Without the null handler, Python would print a warning with no handler to go to on stderr."""
-    code = "import logging, ioc_bench; logging.getLogger('ioc_bench.bench.runner').warning('case x: FAILED')"
+    code = "import logging, ioc_bench; logging.getLogger('ioc_bench.runner.run').warning('case x: FAILED')"
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert proc.returncode == 0 and (proc.stdout, proc.stderr) == ("", "")

@@ -39,7 +39,7 @@ from envs.checks.physics_checks import (
     stance_ground_forces,
     time_consistency_check,
 )
-from envs.physics import MujocoParams
+from envs.physics import MujocoParams, Physics
 from envs.tracking import PDGains
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.feet import ROLLING_FEET
@@ -116,6 +116,9 @@ def replay(
 ) -> ReplayReport:
     """Check ``demo`` against the MuJoCo model of ``params`` (default: its own), and replay it.
 
+    The physical checks share one compiled model (:class:`envs.physics.Physics`, built once
+    here); the open and closed loops simulate in environments of their own (their timesteps
+    differ and the environment switches the feet's friction as it walks).
     The physical checks always run. A step that cannot be replayed (``ValueError`` from
     the open or closed loop, e.g. a motion the tracking policy cannot follow by phase) is
     reported with its reason in :attr:`ReplayReport.replay_error`, not raised: the verdict
@@ -127,8 +130,9 @@ def replay(
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     check_replayable(demo)
-    inverse_dynamics = inverse_dynamics_check(demo, params)
-    checks = physics_checks(demo, inverse_dynamics, params)
+    physics = Physics.of(params or demo.params)
+    inverse_dynamics = inverse_dynamics_check(demo, params, physics=physics)
+    checks = physics_checks(demo, inverse_dynamics, params, physics=physics)
     try:
         open_loop, closed_loop = open_loop_replay(demo, params), closed_loop_replay(demo, steps, gains, params)
     except ValueError as exc:

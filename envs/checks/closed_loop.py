@@ -7,8 +7,9 @@ the control period differs: the check decides every :data:`CHECK_CONTROL_DT` (th
 environment's ``frame_skip`` set to match), not every 0.01. At 0.01 the sampled PD rings
 after each heel strike and the feedback share measures that ringing more than the
 demonstration (nominal step: 48 % at 0.01 and 14 % at every 0.002 physics step; with
-v0's 0.0005 physics 37 % and 13 %; docs/environment.md). Reported: steps walked, tracking error (RMS and max over
-environment steps and the four actuated joints, rad), and the feedback share
+v0's 0.0005 physics 37 % and 13 %; docs/notes/2026-11-25-env-physics-step-and-rates.md).
+Reported: steps walked, tracking error (RMS and max over environment steps and the four
+actuated joints, rad), and the feedback share
 ``sum |tau_fb| / (sum |tau_ff| + sum |tau_fb|)`` over every environment step and joint,
 the share of steps ending with the stance foot on the floor, and the swing foot's
 grazes (touchdowns short of the landing zone, which the environment does not count as

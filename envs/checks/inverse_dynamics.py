@@ -21,7 +21,7 @@ import mujoco
 import numpy as np
 
 from envs.coordinates import generalized_torques
-from envs.physics import MujocoParams, build_model, foot_contact_point, foot_roll
+from envs.physics import MujocoParams, Physics, check_physics, foot_contact_point, foot_roll
 from envs.reference import Reference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.catalogue import get_model
@@ -74,6 +74,8 @@ def inverse_dynamics_check(
     demo: Demonstration,
     params: MujocoParams | None = None,
     tolerance: float = ID_TOLERANCE,
+    *,
+    physics: Physics | None = None,
 ) -> InverseDynamicsResult:
     """Compare MuJoCo's inverse dynamics with the demonstration's torques at every knot.
 
@@ -82,11 +84,11 @@ def inverse_dynamics_check(
         params: the model MuJoCo uses (default: the demonstration's own). Another model
             (say the nominal one for a heavy-legs demonstration) must fail the check.
         tolerance: relative residual at or above which the check fails.
+        physics: the compiled model of ``params`` shared by a replay's checks (None: built here).
     """
     p = params or demo.params
-    model = build_model(p)
-    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-    data = mujoco.MjData(model)
+    physics = check_physics(physics, p)
+    model, data = physics.model, physics.data
     ref, tr = Reference.of(demo), demo.trajectory
     shank, roll = int(model.site_bodyid[model.site("foot_a").id]), foot_roll(p)
     ground = ref.linkage.pin_index(get_model(demo.model).roles.contact_pin)

@@ -24,9 +24,9 @@ Checks 3-6 are inequalities the trajectory optimizer imposes; their limit is
 :data:`~ioc_bench.trajopt.solution.FEASIBILITY_TOL`, the constraint violation at which the
 benchmark's own solver still accepts a solution (everything is dimensionless: body mass,
 gravity and leg length 1). Checks 1 and 2 are equalities with a relative figure; their
-limit is :data:`~envs.checks.inverse_dynamics.ID_TOLERANCE` (0.1 %). docs/environment.md:
-"The physical checks" says why each limit is what it is, "Physical checks, measured" has
-the measurements.
+limit is :data:`~envs.checks.inverse_dynamics.ID_TOLERANCE` (0.1 %). docs/environment.md,
+"The physical checks", says why each limit is what it is; the measurements are in
+docs/notes/2026-12-03-physical-checks.md.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ import mujoco
 import numpy as np
 
 from envs.checks.inverse_dynamics import ID_TOLERANCE, InverseDynamicsResult
-from envs.physics import MujocoParams, build_model, foot_contact_point, foot_roll
+from envs.physics import MujocoParams, Physics, check_physics, foot_contact_point, foot_roll
 from envs.reference import Reference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, LEGS
@@ -142,18 +142,20 @@ def time_consistency_check(demo: Demonstration, tolerance: float = TIMING_TOL) -
     return _judge("time_consistency", value, tolerance, "<=", quantity, why, knot)
 
 
-def stance_ground_forces(demo: Demonstration, params: MujocoParams | None = None) -> np.ndarray:
+def stance_ground_forces(
+    demo: Demonstration, params: MujocoParams | None = None, *, physics: Physics | None = None
+) -> np.ndarray:
     """(T, 2) ground force ``(f_x, f_z)`` on the stance foot that the motion needs, knot by knot.
 
     MuJoCo's inverse dynamics (constraints disabled) of each knot's state and acceleration:
     the root's slide joints ``rootx`` and ``rootz`` carry no actuator, and the stance foot's
     Jacobian on them is the identity, so their generalized forces are the ground force,
     ``sum m_i a_i - m g`` (Newton's law for the whole body). Only the motion and the model
-    enter: not the demonstration's torques, nor its own pin forces.
+    enter: not the demonstration's torques, nor its own pin forces. ``physics``: the model
+    of ``params`` a replay's checks share (None: built here).
     """
-    model = build_model(params or demo.params)
-    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
-    data = mujoco.MjData(model)
+    physics = check_physics(physics, params or demo.params)
+    model, data = physics.model, physics.data
     ref = Reference.of(demo)
     rows = [JOINTS.index("rootx"), JOINTS.index("rootz")]
     forces = np.zeros((len(ref.times), 2))
@@ -165,7 +167,11 @@ def stance_ground_forces(demo: Demonstration, params: MujocoParams | None = None
 
 
 def ground_force_checks(
-    demo: Demonstration, params: MujocoParams | None = None, tolerance: float = INEQUALITY_TOL
+    demo: Demonstration,
+    params: MujocoParams | None = None,
+    tolerance: float = INEQUALITY_TOL,
+    *,
+    physics: Physics | None = None,
 ) -> tuple[PhysicsCheck, PhysicsCheck]:
     """The stance foot's ground force: it never pulls, and it stays in the friction cone.
 
@@ -174,7 +180,7 @@ def ground_force_checks(
     """
     p = params or demo.params
     weight = p.total_mass * p.gravity
-    fx, fz = (stance_ground_forces(demo, p) / weight).T
+    fx, fz = (stance_ground_forces(demo, p, physics=physics) / weight).T
     k = int(np.argmin(fz))
     pull = _judge(
         "ground_normal_force",
@@ -201,18 +207,23 @@ def ground_force_checks(
 
 
 def penetration_check(
-    demo: Demonstration, params: MujocoParams | None = None, tolerance: float = INEQUALITY_TOL
+    demo: Demonstration,
+    params: MujocoParams | None = None,
+    tolerance: float = INEQUALITY_TOL,
+    *,
+    physics: Physics | None = None,
 ) -> PhysicsCheck:
     """Depth of the swing foot below the ground (height 0) at the knots, in leg lengths.
 
     MuJoCo's forward kinematics of each knot with leg ``a`` in stance: the swing foot is
     site ``foot_b``, its lowest point a rolling arc's radius below it
     (:func:`envs.physics.foot_contact_point`). Negative values are clearance (the foot's
-    least height above ground).
+    least height above ground). ``physics``: the model of ``params`` a replay's checks
+    share (None: built here; forward kinematics ignores its disabled constraints).
     """
     p = params or demo.params
-    model = build_model(p)
-    data = mujoco.MjData(model)
+    physics = check_physics(physics, p)
+    model, data = physics.model, physics.data
     ref, roll = Reference.of(demo), foot_roll(p)
     heights = np.zeros(len(ref.times))
     for k in range(len(ref.times)):
@@ -259,17 +270,23 @@ def knee_range_check(
 
 
 def physics_checks(
-    demo: Demonstration, inverse_dynamics: InverseDynamicsResult, params: MujocoParams | None = None
+    demo: Demonstration,
+    inverse_dynamics: InverseDynamicsResult,
+    params: MujocoParams | None = None,
+    *,
+    physics: Physics | None = None,
 ) -> tuple[PhysicsCheck, ...]:
     """Every physical check of ``demo`` against the model of ``params`` (default: its own).
 
     ``inverse_dynamics`` is the result of :func:`~envs.checks.inverse_dynamics_check` for
-    the same demonstration and model (the report keeps its details).
+    the same demonstration and model (the report keeps its details). The checks share one
+    compiled model, ``physics`` (None: built here, once).
     """
+    physics = check_physics(physics, params or demo.params)
     return (
         inverse_dynamics_verdict(inverse_dynamics),
         time_consistency_check(demo),
-        *ground_force_checks(demo, params),
-        penetration_check(demo, params),
+        *ground_force_checks(demo, params, physics=physics),
+        penetration_check(demo, params, physics=physics),
         knee_range_check(demo, params),
     )

@@ -19,6 +19,7 @@ from typing import Any, NoReturn
 
 from ioc_bench.checks import load_json, one_line
 from ioc_bench.fileio import to_jsonable
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 from ioc_bench.paths import check_path_text
 
 
@@ -37,9 +38,9 @@ def is_run_fault(exc: BaseException) -> bool:
     a file system error (full disk, a folder replaced by a file, no permission), a results
     folder or file the run cannot use, a demonstration file that does not read, a worker
     process that died. Anything else is a bug and keeps its traceback."""
-    from ioc_bench.bench.results import ResultFileError
     from ioc_bench.demo import DemonstrationFileError
     from ioc_bench.paths import PathError
+    from ioc_bench.runner.results import ResultFileError
     from ioc_bench.trajopt.multistart import WorkerDied
 
     return isinstance(exc, (OSError, ResultFileError, DemonstrationFileError, PathError, WorkerDied))
@@ -177,24 +178,25 @@ def weights_arg(text: str) -> str:
     raise argparse.ArgumentTypeError(errors[0])
 
 
-def add_model_arg(parser: argparse.ArgumentParser, default: str | None = "walker") -> None:
+def add_model_arg(parser: argparse.ArgumentParser, default: str | None = DEFAULT_MODEL) -> None:
     """--model: a gait model by name."""
     from ioc_bench.model.catalogue import MODELS
 
-    where = "default walker" if default else "default: the suite's"
+    where = f"default {default}" if default else "default: the suite's"
     parser.add_argument("--model", choices=tuple(MODELS), default=default, help=f"gait model ({where})")
 
 
-def model_weights(text: str, model_name: str) -> None:
-    """Raise :class:`UsageError` if ``--weights`` names no weights of the chosen model."""
+def model_weights(text: str, model: Any) -> Any:
+    """The unit weights ``--weights`` names over the chosen model's cost features (``model``
+    the resolved :class:`~ioc_bench.model.gait_model.GaitModel`); :class:`UsageError` if it
+    names none of that model's."""
     from ioc_bench.features import cost_features
-    from ioc_bench.model.catalogue import get_model
     from ioc_bench.weights import parse_weights
 
     try:
-        parse_weights(text, cost_features(get_model(model_name)))
+        return parse_weights(text, cost_features(model))
     except ValueError as exc:
-        raise UsageError(f"--weights {text}: {exc} (model {model_name})") from None
+        raise UsageError(f"--weights {text}: {exc} (model {model.name})") from None
 
 
 def solver_dict(report: Any) -> dict[str, Any]:

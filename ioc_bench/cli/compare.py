@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ioc_bench.cli.common import UsageError, add_json_flag, path_arg, print_json, usage_errors
 
 if TYPE_CHECKING:
-    from ioc_bench.bench.compare import Comparison, Difference
+    from ioc_bench.synthetic.compare import Comparison, Difference
 
 #: How many unpaired cases the text report names per run (the JSON names every one).
 SHOWN_UNPAIRED = 10
@@ -37,9 +38,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=run)
 
 
-def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.compare import compare_folders
+def compare_folders(a: str | os.PathLike, b: str | os.PathLike, level: float = 0.95) -> Comparison:
+    """Compare the results folders ``a`` and ``b``
+    (:func:`~ioc_bench.synthetic.compare.compare_results`); ``ValueError`` (one line) for a folder
+    that cannot be read, a result file that does not read
+    (:class:`~ioc_bench.runner.results.ResultFileError`, naming it), a folder without results,
+    or no case in common."""
+    from ioc_bench.runner.results import select_results
+    from ioc_bench.synthetic.compare import compare_results
 
+    return compare_results(select_results(a), select_results(b), level, str(a), str(b))
+
+
+def run(args: argparse.Namespace) -> int:
     for path in (args.a, args.b):
         if _is_file(path):  # not a folder: say what compare reads (a board's leaderboard.json is not read back)
             raise UsageError(f"{path} is a file: compare reads two results folders, as `ioc-bench run --out` writes")
@@ -62,7 +73,7 @@ def _is_file(path: Path) -> bool:
 
 def report(comparison: Comparison) -> str:
     """The comparison as text: a header, one row per cell, the status changes, the unpaired cases."""
-    from ioc_bench.bench.compare import BETTER, HEADLINE, RESAMPLES, SCORES, WORSE
+    from ioc_bench.synthetic.compare import BETTER, HEADLINE, RESAMPLES, SCORES, WORSE
 
     c = comparison
     pct = f"{100 * c.level:g} %"

@@ -32,20 +32,18 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.features import cost_features
     from ioc_bench.model.catalogue import get_model
     from ioc_bench.optimize import optimize_gait
     from ioc_bench.task import Task
-    from ioc_bench.weights import parse_weights
 
-    model_weights(args.weights, args.model)
     model = get_model(args.model)
+    weights = model_weights(args.weights, model)
     out = output_file(args.out if args.out.suffix == ".npz" else args.out.with_suffix(".npz"))
     if not args.no_plot:
         output_file(out.with_suffix(".png"), "--out (its plot)")
     with progress_bar(args.starts, "multi-start", enabled=not args.json) as bar:
         demo = optimize_gait(
-            parse_weights(args.weights, cost_features(model)),
+            weights,
             task=Task(args.speed),
             model=model,
             starts=args.starts,

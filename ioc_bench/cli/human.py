@@ -33,6 +33,7 @@ from ioc_bench.cli.common import (
     seed_int,
     usage_errors,
 )
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,8 +49,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--starts", type=positive_int, default=None, help="starts per forward solve (default 3)")
     floor_help = "extra weight directions solved at every speed for the floor, ';'-separated, or 'none' (default 1,4,0)"
     p.add_argument("--floor", help=floor_help)
-    model_help = "gait model the person's steps are mapped to (default walker; rolling-feet: rolling feet, free knee)"
-    p.add_argument("--model", default="walker", help=model_help)  # checked by the case: one line, exit 2
+    model_help = (
+        f"gait model the person's steps are mapped to (default {DEFAULT_MODEL}; rolling-feet: rolling feet, free knee)"
+    )
+    p.add_argument("--model", default=DEFAULT_MODEL, help=model_help)  # checked by the case: one line, exit 2
     task_help = "what the walker is told: speed (step length free; default) or speed-and-step (the person's too)"
     p.add_argument("--task", default="speed", help=task_help)  # checked by the case
     basis_help = (
@@ -64,7 +67,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.runner import run_one
+    from ioc_bench.runner.run import run_one
 
     if args.suite is not None:
         raise UsageError(f"a suite runs with: ioc-bench run --suite {args.suite} --algorithm {args.algorithm}")
@@ -106,11 +109,13 @@ def _spec(args: argparse.Namespace):
 
 
 def _print(record) -> None:
+    from ioc_bench.bases import DEFAULT_BASIS
+
     w = ", ".join(f"{x:.3f}" for x in record.weights)
     reason = f" ({record.reason})" if record.reason else ""
     train = "+".join([record.train, *record.also_train])
     source = f" fitted on {'+'.join(record.population)}" if record.population else ""
-    qualifiers = [q for q, plain in ((record.model, "walker"), (record.basis, "effort")) if q != plain]
+    qualifiers = [q for q, plain in ((record.model, DEFAULT_MODEL), (record.basis, DEFAULT_BASIS)) if q != plain]
     model = f" ({', '.join(qualifiers)})" if qualifiers else ""
     print(f"{record.algorithm} on {record.subject} {train}{source}{model}, task {record.task}: {record.status}{reason}")
     print(f"  weights ({', '.join(record.features)}) = [{w}]  in {record.wall_time:.1f} s, {record.n_solves} solves")

@@ -48,16 +48,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.case import run_case
-    from ioc_bench.bench.conditions import get_condition
     from ioc_bench.fileio import atomic_write_json
-    from ioc_bench.ioc.registry import make_algorithm
+    from ioc_bench.synthetic.case import run_spec
     from ioc_bench.viz.convergence import plot_convergence
 
-    model_weights(args.weights, args.model)
-    with usage_errors():
-        condition = get_condition(args.condition)
-        make_algorithm(args.algorithm, **args.config)  # the name and every config field
+    spec, algo = _case(args)
     if args.out.suffix == ".png":
         raise UsageError(f"--out {args.out} names the JSON result; its plot is written beside it as .png")
     output_file(args.out)
@@ -65,11 +60,11 @@ def run(args: argparse.Namespace) -> int:
     check_cache()
     if not args.json:
         print(
-            f"running {args.algorithm} on {args.weights} weights of the {args.model}, {condition.name} condition, "
-            f"seed {args.seed}",
+            f"running {spec.algorithm} on {spec.weight_set} weights of the {spec.model}, {spec.condition} condition, "
+            f"seed {spec.seed}",
             file=sys.stderr,
         )
-    result = run_case(args.algorithm, args.weights, condition, args.seed, config=args.config, model=args.model)
+    result = run_spec(spec, algo=algo)  # the algorithm built above, not again
     atomic_write_json(args.out, result.to_dict())
     plot = plot_convergence(result, args.out.with_suffix(".png"))
     summary = result.to_dict() | {"iterations": len(result.history), "result_file": str(args.out), "plot": str(plot)}
@@ -78,6 +73,22 @@ def run(args: argparse.Namespace) -> int:
     else:
         _print(result, summary)
     return 1 if result.failed else 0
+
+
+def _case(args: argparse.Namespace):
+    """The case and its algorithm, each resolved once from the arguments (bad input: exit 2,
+    before any work): the model, then the weights on it, the condition, the algorithm."""
+    from ioc_bench.ioc.registry import make_algorithm
+    from ioc_bench.model.catalogue import get_model
+    from ioc_bench.synthetic.case import CaseSpec
+    from ioc_bench.synthetic.conditions import get_condition
+
+    model = get_model(args.model)
+    model_weights(args.weights, model)
+    with usage_errors():
+        condition = get_condition(args.condition)
+        algo = make_algorithm(args.algorithm, **args.config)  # the name and every config field
+        return CaseSpec(args.algorithm, args.weights, condition, args.seed, args.config, model), algo
 
 
 def _print(result, summary: dict) -> None:

@@ -26,20 +26,18 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.leaderboard import FILES, plan_leaderboard, split_tracks, summarise
-    from ioc_bench.bench.results import select_sources
+    from ioc_bench.runner.leaderboard import board_files, plan_leaderboard, summary
+    from ioc_bench.runner.results import select_sources
 
     with usage_errors():  # every result and the output checked here, so that errors while writing stay real errors
         results = select_sources(args.results)
         out = _default_out(args.results) if args.out is None else args.out
         source = " ".join(_folder_name(path) for path in args.results)
         board = plan_leaderboard(results, out, source=source, out_name="--out")
-    replaced = [str(board.out / name) for name in FILES if (board.out / name).is_file()]
+    replaced = [str(board.out / name) for name in board_files() if (board.out / name).is_file()]
     paths = board.write()
     if args.json:
-        files = [str(p) for p in paths]
-        cells = [c.__dict__ for c in summarise(split_tracks(results)[0])]
-        print_json({"files": files, "replaced": replaced, "cells": cells})
+        print_json({"files": [str(p) for p in paths], "replaced": replaced} | summary(results))
     else:
         print(paths[0].read_text())
         print(f"wrote {', '.join(str(p) for p in paths)}" + (f" (replacing {', '.join(replaced)})" if replaced else ""))

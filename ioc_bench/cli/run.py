@@ -13,7 +13,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from ioc_bench.bench.executor import DEFAULT_TIME_LIMIT, EXECUTORS
 from ioc_bench.cli.common import (
     UsageError,
     add_json_flag,
@@ -28,6 +27,7 @@ from ioc_bench.cli.common import (
     print_json,
     usage_errors,
 )
+from ioc_bench.runner.executor import DEFAULT_TIME_LIMIT, EXECUTORS
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -50,23 +50,25 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ioc_bench.bench.leaderboard import markdown, split_tracks, summarise
-    from ioc_bench.bench.results import read_result
-    from ioc_bench.bench.runner import plan_run
-    from ioc_bench.bench.suites import SUITES, get_suite, is_human
     from ioc_bench.cli.common import progress_bar
+    from ioc_bench.human.suites import HumanSuite
+    from ioc_bench.runner.leaderboard import markdown, summary
+    from ioc_bench.runner.results import read_result
+    from ioc_bench.runner.run import plan_run
+    from ioc_bench.runner.tracks import get_suite, suites
 
     if args.list:
         with usage_errors():
-            suites = [get_suite(args.suite)] if args.suite is not None else list(SUITES.values())
-        return _list_suites(suites, args.json)
+            listed = [get_suite(args.suite)] if args.suite is not None else list(suites().values())
+        return _list_suites(listed, args.json)
     args.suite = args.suite or "smoke"
     with usage_errors():
         suite = get_suite(args.suite)
-    if args.data is not None and not is_human(suite):
+    is_human = isinstance(suite, HumanSuite)  # its cases read a WBDS folder (--data)
+    if args.data is not None and not is_human:
         raise UsageError(f"--data names a WBDS folder for the human suites; {args.suite} is a synthetic suite")
     with usage_errors():
-        if is_human(suite):
+        if is_human:
             data = None if args.data is None else str(input_dir(args.data, "--data folder"))
             specs = suite.cases(args.algorithm, args.config, model=args.model, data=data)
             _check_human_data(specs)
@@ -91,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
                 bar.write(f"  {spec.key}: {result.headline()}, {result.wall_time:.0f} s", file=sys.stderr)
 
         try:
-            summary = plan.run(on_case, say)
+            run_summary = plan.run(on_case, say)
         except KeyboardInterrupt:
             print(
                 f"\ninterrupted; finished cases are in {args.out}/ - rerun the same command to resume", file=sys.stderr
@@ -101,18 +103,12 @@ def run(args: argparse.Namespace) -> int:
         stored = [(s.key, read_result(s.path(args.out), args.out)) for s in specs if s.path(args.out).is_file()]
     results = [r for _, r in stored]
     if args.json:
-        synthetic, human = split_tracks(results)
-        report = {"summary": summary.__dict__, "cells": [c.__dict__ for c in summarise(synthetic)]}
-        if human:
-            from ioc_bench.human.summary import summarize
-
-            report["human"] = summarize(human)
-        print_json(report)
+        print_json({"summary": run_summary.__dict__} | summary(results))
     else:
-        retried = f" ({summary.retried} of them retried)" if summary.retried else ""
+        retried = f" ({run_summary.retried} of them retried)" if run_summary.retried else ""
         say(
-            f"{summary.ran} run{retried}, {summary.skipped} already done, {summary.failed} failed, "
-            f"{summary.wall_time:.0f} s"
+            f"{run_summary.ran} run{retried}, {run_summary.skipped} already done, {run_summary.failed} failed, "
+            f"{run_summary.wall_time:.0f} s"
         )
         failed = [(key, r) for key, r in stored if r.failed]
         if failed:

@@ -8,8 +8,9 @@ rolling feet, on the subject's body). The track itself: ``case`` (a case of the 
 inferred at some speeds, its steps predicted at the others), ``scoring`` (the RMSEs, the
 copy baseline, the adaptation and ground-force errors), ``record`` (what a result file
 holds, checked when read), ``summary`` (a run per algorithm and design), ``opening`` (the
-board's ranked summary, headline and figures), ``suites`` (the case lists as data) and
-``figures``; these bring in the solvers and are imported on their own. ``docs/human.md``
+board's ranked summary, headline and figures), ``board`` (the track's leaderboard section),
+``suites`` (the case lists as data), ``figures`` and ``track`` (the track as the runner
+registers it); these bring in the solvers and are imported on their own. ``docs/human.md``
 says how each choice was made and what it costs.
 """
 

@@ -1,6 +1,8 @@
 """The human track's section of a leaderboard: the ranked opening and its headline
 (:mod:`ioc_bench.human.opening`), the case figures, then the details
-(:mod:`ioc_bench.human.summary`)."""
+(:mod:`ioc_bench.human.summary`); ``human_cases.csv`` and the ``human`` and ``human_cases``
+of ``leaderboard.json``. :data:`SECTION` is what the board (:mod:`ioc_bench.runner.leaderboard`)
+is handed."""
 
 from __future__ import annotations
 
@@ -8,10 +10,13 @@ import csv
 import io
 import math
 from collections.abc import Sequence
+from typing import Any
 
+from ioc_bench.human.case import parse_record
 from ioc_bench.human.opening import figure_caption, figure_lines, ranking_lines, rankings
 from ioc_bench.human.record import HumanResult
-from ioc_bench.human.summary import detail_lines
+from ioc_bench.human.summary import detail_lines, summarize, weight_spread
+from ioc_bench.runner.protocol import BoardSection
 
 
 def markdown(records: Sequence[HumanResult], figures: Sequence[str] = ()) -> str:
@@ -58,3 +63,45 @@ def cases_csv(records: Sequence[HumanResult]) -> str:
 
 def _number(x: float | None) -> str:
     return "" if x is None or not math.isfinite(x) else f"{x:.6g}"
+
+
+def files(records: Sequence[HumanResult]) -> tuple[dict[str, Any], dict[str, str]]:
+    """The track's entries of ``leaderboard.json`` (its summary rows and weight spread, every
+    case without its angle traces; none without records) and ``human_cases.csv``."""
+    data = {}
+    if records:
+        data["human"] = {"rows": summarize(records), "weight_spread": weight_spread(records)}
+        data["human_cases"] = [_without_angles(r.to_dict()) for r in records]
+    return data, {"human_cases.csv": cases_csv(records)}
+
+
+def _without_angles(record: dict) -> dict:
+    for score in record.get("scores", {}).values():
+        score.pop("angles", None)
+    record.pop("oracle", None)
+    return record
+
+
+def summary(records: Sequence[HumanResult]) -> dict[str, Any]:
+    """What ``--json`` reports of the track: its summary rows (nothing without records)."""
+    return {"human": summarize(records)} if records else {}
+
+
+def _lines(records: Sequence[HumanResult], figures: Sequence[str]) -> list[str]:
+    return [markdown(records, figures).rstrip("\n")]
+
+
+def _owns_figure(path: str) -> bool:
+    return figure_caption(path) is not None
+
+
+#: The human track's part of the board.
+SECTION = BoardSection(
+    markdown=_lines,
+    files=files,
+    tables=("human_cases.csv",),
+    cases_key="human_cases",
+    parse_kept=parse_record,
+    summary=summary,
+    owns_figure=_owns_figure,
+)

@@ -2,7 +2,7 @@
 
 A :class:`HumanCaseSpec` is the case's identity (subject, training and predicted speeds,
 the training design, algorithm, config, seed, solve options), checked when made. It is a
-case of the benchmark's one case protocol (:mod:`ioc_bench.bench.protocol`): it names its
+case of the benchmark's one case protocol (:mod:`ioc_bench.runner.protocol`): it names its
 result file (:attr:`~HumanCaseSpec.key`), the inputs the runner prepares once for every
 case that shares them (:meth:`~HumanCaseSpec.needs`: the reference steps), and runs in a
 worker (:meth:`~HumanCaseSpec.run`): the fit step every track shares
@@ -77,8 +77,14 @@ from ioc_bench.human.step import HumanStep, human_step
 from ioc_bench.human.wbds import WbdsData, subject_number, table_speed_code
 from ioc_bench.ioc.fit import Fit, fit
 from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
-from ioc_bench.ioc.registry import canonical_config, check_algorithm_name, check_config, get_algorithm
-from ioc_bench.model.catalogue import get_model
+from ioc_bench.ioc.registry import (
+    canonical_config,
+    check_algorithm_name,
+    check_config,
+    get_algorithm,
+    make_algorithm,
+)
+from ioc_bench.model.catalogue import DEFAULT_MODEL, get_model
 from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.paths import read_bytes
 from ioc_bench.provenance import provenance
@@ -138,7 +144,7 @@ class HumanCaseSpec:
     floor_weights: tuple[str, ...] = FLOOR_WEIGHTS
     also_train: tuple[str, ...] = ()
     population: tuple[str, ...] = ()
-    model: str = "walker"
+    model: str = DEFAULT_MODEL
     task: str = GIVEN_STEP
     basis: str = DEFAULT_BASIS
     data: str | None = field(default=None, compare=False)
@@ -185,9 +191,9 @@ class HumanCaseSpec:
         """The fields naming a case (a record's must match its file's name)."""
         return tuple(f.name for f in fields(cls) if f.init and f.compare)
 
-    @property
+    @cached_property
     def features(self) -> tuple[str, ...]:
-        """The features the algorithm weighs: the case's basis on its model."""
+        """The features the algorithm weighs: the case's basis on its model (computed once)."""
         return get_basis(self.basis).features(self.gait_model)
 
     @property
@@ -198,9 +204,9 @@ class HumanCaseSpec:
         energetics fits and moved one prediction to another optimum."""
         return None if self.basis == DEFAULT_BASIS else self.features
 
-    @property
+    @cached_property
     def gait_model(self) -> GaitModel:
-        """The catalogue's model of :attr:`model`."""
+        """The catalogue's model of :attr:`model` (resolved once per case)."""
         return get_model(self.model)
 
     @property
@@ -228,7 +234,7 @@ class HumanCaseSpec:
         if self.population:
             name += f"__from-{'+'.join(self.population)}"
         name += f"__predict-{'-'.join(self.predict) or 'none'}__seed{self.seed}"
-        if self.model != "walker":
+        if self.model != DEFAULT_MODEL:
             name += f"__model-{self.model}"
         if self.task != GIVEN_STEP:
             name += f"__task-{self.task}"
@@ -297,7 +303,8 @@ class HumanCaseSpec:
         """Run and score the case (in a worker): ``inputs`` maps :meth:`needs` to their steps."""
         model = self.gait_model
         trials = [self._problem(s, model) for s in self.training_steps()]
-        outcome = fit(self.algorithm, self.config, trials[0] if len(trials) == 1 else MultiTrialProblem(trials))
+        algo = make_algorithm(self.algorithm, **self.config)  # once per case, handed to the fit
+        outcome = fit(algo, trials[0] if len(trials) == 1 else MultiTrialProblem(trials))
         if outcome.failed:
             return self._record(outcome, {}, 0.0)
         t0 = time.perf_counter()
@@ -554,7 +561,7 @@ class ReferenceStep:
     step: HumanStep
     starts: int
     seed: int
-    model: str = "walker"
+    model: str = DEFAULT_MODEL
     task: Task | None = None
 
     @property
@@ -574,7 +581,7 @@ class ReferenceStep:
             "seed": self.seed,
             "revision": REFERENCE_REVISION,
         }
-        if self.model != "walker":
+        if self.model != DEFAULT_MODEL:
             payload["model"] = self.model
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
 

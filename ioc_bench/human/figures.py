@@ -10,6 +10,7 @@ import numpy as np
 
 from ioc_bench.human.record import HumanResult, SpeedScore
 from ioc_bench.human.step import LEG_SEGMENTS
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 from ioc_bench.plotting import plt, save_figure
 
 _STYLES = ("--", ":", "-.")
@@ -51,7 +52,7 @@ def plot_human_fits(panels: Sequence[Mapping], path: str | os.PathLike, heading:
 def plot_human_case(record: HumanResult, humans: Mapping[str, np.ndarray], path: str | os.PathLike) -> Path:
     """The figure of one human-track case: the rows of :func:`case_panels`, titled with the
     case's model when it is not the walker."""
-    model = "" if record.model == "walker" else f"Model {record.model}. "
+    model = "" if record.model == DEFAULT_MODEL else f"Model {record.model}. "
     return plot_human_fits(case_panels(record, humans), path, model)
 
 

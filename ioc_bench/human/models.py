@@ -22,12 +22,13 @@ from dataclasses import replace
 from typing import Any
 
 from ioc_bench.model.catalogue import MODELS, get_model
-from ioc_bench.model.feet import FootedParams, from_walker
+from ioc_bench.model.feet import ROLLING_FEET, FootedParams, from_walker
 from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.model.params import WalkerParams
+from ioc_bench.model.walker import WALKER
 
 #: The models a human step can be mapped to (the subject's walker is built for them).
-HUMAN_MODELS: tuple[str, ...] = ("walker", "rolling-feet")
+HUMAN_MODELS: tuple[str, ...] = (WALKER.name, ROLLING_FEET.name)
 
 
 def check_human_model(name: Any) -> str:

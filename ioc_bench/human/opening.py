@@ -20,6 +20,7 @@ from typing import Any
 
 from ioc_bench.human.record import HumanResult, SpeedScore
 from ioc_bench.human.summary import _algorithm, _cell, _design_order, _mean, _median, _table, pooled_r2
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 
 #: The baselines' row labels.
 COPY, POPULATION, INTERPOLATION, POWER_LAW = (
@@ -69,7 +70,7 @@ def rankings(records: Sequence[HumanResult]) -> list[Ranking]:
         return []
     design, every = ranking_design(records)
     chosen = [r for r in records if r.design == design]
-    pairs = sorted({(r.model, r.task) for r in chosen}, key=lambda p: (p[0] != "walker", p))
+    pairs = sorted({(r.model, r.task) for r in chosen}, key=lambda p: (p[0] != DEFAULT_MODEL, p))
     out = []
     for model, task in pairs:
         mine = [r for r in chosen if (r.model, r.task) == (model, task)]

@@ -17,6 +17,7 @@ from typing import Any
 from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.human.case import HumanCaseSpec
 from ioc_bench.human.record import GIVEN_STEP, SPEED_ONLY
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 
 #: The shipped subjects and treadmill speeds.
 SHIPPED_SUBJECTS: tuple[str, ...] = ("WBDS01", "WBDS02", "WBDS03")
@@ -66,7 +67,7 @@ class HumanSuite:
     description: str
     subjects: tuple[str, ...]
     designs: tuple[Design, ...]
-    model: str = "walker"
+    model: str = DEFAULT_MODEL
     task: str = SPEED_ONLY
     basis: str = DEFAULT_BASIS
 

@@ -35,6 +35,7 @@ import numpy as np
 from ioc_bench.bases import DEFAULT_BASIS
 from ioc_bench.human.record import HumanResult
 from ioc_bench.human.scoring import skill_score
+from ioc_bench.model.catalogue import DEFAULT_MODEL
 
 
 def run_floors(records: Sequence[HumanResult]) -> dict[tuple[str, str], float]:
@@ -63,7 +64,15 @@ def summarize(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
 
     def rank(key: tuple[str, str, str, str, str]) -> tuple:
         algorithm, basis, model, task, _ = key
-        return (algorithm, basis != DEFAULT_BASIS, basis, model != "walker", model, task, _design_rank(groups[key][0]))
+        return (
+            algorithm,
+            basis != DEFAULT_BASIS,
+            basis,
+            model != DEFAULT_MODEL,
+            model,
+            task,
+            _design_rank(groups[key][0]),
+        )
 
     return [_row(*key, groups[key], floors[key[2], key[3]]) for key in sorted(groups, key=rank)]
 
@@ -160,7 +169,7 @@ def baseline_rows(records: Sequence[HumanResult]) -> list[dict[str, Any]]:
             "copy_step_length_error": _median([s.copy_step_length_error for s in scores]),
             "power_law_step_length_error": _median([s.power_law_step_length_error for s in scores]),
         })  # fmt: skip
-    return sorted(rows, key=lambda r: (r["model"] != "walker", r["model"], r["task"], _design_order(r["design"])))
+    return sorted(rows, key=lambda r: (r["model"] != DEFAULT_MODEL, r["model"], r["task"], _design_order(r["design"])))
 
 
 def pooled_r2(pairs: Sequence[tuple[float, float]]) -> float:
@@ -287,7 +296,7 @@ def _count(n: int, of: int) -> str:
 def _algorithm(row: Mapping[str, Any]) -> str:
     """The algorithm's cell: its name, then the model's when it is not the walker and the
     basis's when it is not the effort basis."""
-    qualifiers = [q for q, plain in ((row["model"], "walker"), (row["basis"], DEFAULT_BASIS)) if q != plain]
+    qualifiers = [q for q, plain in ((row["model"], DEFAULT_MODEL), (row["basis"], DEFAULT_BASIS)) if q != plain]
     return f"{row['algorithm']} ({', '.join(qualifiers)})" if qualifiers else row["algorithm"]
 
 

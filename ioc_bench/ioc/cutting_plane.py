@@ -270,8 +270,8 @@ class CuttingPlane:
         """Feature vectors of ``n_random`` projected random perturbations of the observation
         (failed projections and ones indistinguishable from the reference left out). Each
         projection starts warm at the reference, the projected step it perturbs: the same
-        projections in fewer iterations than from the perturbed values (``docs/performance.md``,
-        "Where a suite's time goes"; ``benchmarks/projection_starts.py``)."""
+        projections in fewer iterations than from the perturbed values
+        (``docs/notes/2026-12-05-warm-projections.md``; ``benchmarks/projection_starts.py``)."""
         rng = problem.rng(stream=1)
         samples, failed, reference = [], 0, problem.reference()
         for _ in range(self.n_random):

@@ -1,7 +1,7 @@
 """The fit step every track runs: an algorithm on a problem, its answer checked at the boundary.
 
-Synthetic and human cases alike make the algorithm, hand it the problem, time it, count
-its forward solves, and check what it returned against the plugin contract
+Synthetic and human cases alike build their algorithm once (from the registry), hand it the
+problem, time it, count its forward solves, and check what it returned against the plugin contract
 (:mod:`ioc_bench.ioc.contract`). Whatever goes wrong (the algorithm raises, returns
 something the contract refuses, or is given several trials it cannot take) becomes a
 :class:`Fit` with a reason, never an exception: a failed fit is a recorded result.
@@ -11,15 +11,13 @@ from __future__ import annotations
 
 import time
 import traceback
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ioc_bench.ioc.algorithm import IOCResult
+from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 from ioc_bench.ioc.contract import contract_breach
 from ioc_bench.ioc.oracle import OracleStats
 from ioc_bench.ioc.problem import REUSED_REFERENCE, IOCProblem, MultiTrialProblem
-from ioc_bench.ioc.registry import make_algorithm
 
 
 @dataclass(frozen=True, eq=False)
@@ -50,17 +48,12 @@ class Fit:
         return self.stats.forward_solves
 
 
-def fit(algorithm: str, config: Mapping[str, Any], problem: IOCProblem | MultiTrialProblem) -> Fit:
-    """Run ``algorithm`` (a registered name, with ``config`` overrides) on ``problem``.
-
-    Raises:
-        ValueError: an unknown algorithm or a bad config (bad input, before any work); the
-            algorithm's own faults are a failed :class:`Fit`.
-    """
-    algo = make_algorithm(algorithm, **dict(config))
+def fit(algo: IOCAlgorithm, problem: IOCProblem | MultiTrialProblem) -> Fit:
+    """Run ``algo`` (the case's algorithm, built once by the case from the registry) on
+    ``problem``; its own faults are a failed :class:`Fit`, never an exception."""
     settings = algo.config_dict()
     if len(problem.trials) > 1 and not algo.multi_trial:
-        reason = f"{algorithm} does not handle several trials (its multi_trial is False)"
+        reason = f"{algo.name} does not handle several trials (its multi_trial is False)"
         return Fit(None, reason, 0.0, problem.stats.copy(), settings)
     t0 = time.perf_counter()
     try:

@@ -78,7 +78,7 @@ class IOCProblem:
     """One IOC task: recover weights over :attr:`features` from :attr:`observed`.
 
     To experiment outside ``run_case``, build one from a demonstration (the benchmark's
-    own measurement model is :func:`ioc_bench.bench.observe.observe`)::
+    own measurement model is :func:`ioc_bench.synthetic.observe.observe`)::
 
         demo = ioc_bench.optimize_gait("penalize-knee", starts=1)
         problem = IOCProblem(demo.trajectory, ("hip", "knee", "dtau"), demo.params, demo.task)

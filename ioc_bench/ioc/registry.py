@@ -216,7 +216,7 @@ def canonical_config(name: str, config: Mapping[str, Any] | None) -> dict[str, A
     Raises :class:`AlgorithmError` as :func:`make_algorithm` does.
     """
     config = check_config(config)
-    effective = make_algorithm(name, **config).config_dict()
+    effective = _effective_config(name, config)
     if not effective:  # not a dataclass config: the overrides are all there is
         return {k: to_jsonable(v) for k, v in sorted(config.items())}
     return config_overrides(name, effective)
@@ -224,8 +224,23 @@ def canonical_config(name: str, config: Mapping[str, Any] | None) -> dict[str, A
 
 def config_overrides(name: str, effective: Mapping[str, Any]) -> dict[str, Any]:
     """The fields of an effective (full) config that differ from ``name``'s defaults."""
-    defaults = make_algorithm(name).config_dict()
+    defaults = _effective_config(name, {})
     return {k: to_jsonable(v) for k, v in sorted(effective.items()) if to_jsonable(defaults.get(k)) != to_jsonable(v)}
+
+
+def _effective_config(name: str, config: Mapping[str, Any]) -> dict[str, Any]:
+    """The full config ``config``'s overrides give algorithm ``name``, checked as
+    :func:`make_algorithm` checks them, without building the algorithm (a case builds it
+    once, to run it) unless it builds or reports its config its own way."""
+    cls = get_algorithm(name)
+    own_way = cls.__init__ is not IOCAlgorithm.__init__ or cls.config_dict is not IOCAlgorithm.config_dict
+    if own_way or not (isinstance(cls.Config, type) and dataclasses.is_dataclass(cls.Config)):
+        return make_algorithm(name, **config).config_dict()
+    overrides = _checked_overrides(name, cls, config)
+    try:
+        return dataclasses.asdict(cls.Config(**overrides))
+    except (TypeError, ValueError) as exc:
+        raise AlgorithmError(f"bad config for algorithm {name!r}: {_one_line(exc)}") from None
 
 
 def _checked_overrides(name: str, cls: type[IOCAlgorithm], config: Mapping[str, Any]) -> dict[str, Any]:

@@ -8,6 +8,9 @@ from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.model.walker import WALKER
 
 MODELS: dict[str, GaitModel] = {m.name: m for m in (WALKER, COMPASS, ROLLING_FEET)}
+#: The model meant wherever none is named (a case, a command, a track, the environment): the
+#: walker. Named here once; result and cache file names leave it out.
+DEFAULT_MODEL: str = WALKER.name
 
 
 def get_model(name: str) -> GaitModel:
@@ -16,6 +19,14 @@ def get_model(name: str) -> GaitModel:
         return MODELS[name]
     except KeyError:
         raise ValueError(f"unknown gait model {name!r}; valid: {', '.join(MODELS)}") from None
+
+
+def resolve_model(model: str | GaitModel) -> GaitModel:
+    """The catalogue's model for a name or a model object (taken by its name): an object that
+    is already the catalogue's is kept as is, so a caller that resolved it does not again."""
+    if isinstance(model, GaitModel) and MODELS.get(model.name) is model:
+        return model
+    return get_model(model.name if isinstance(model, GaitModel) else model)
 
 
 def model_of(params: object) -> GaitModel:

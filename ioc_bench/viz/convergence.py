@@ -14,7 +14,7 @@ from ioc_bench.viz.common import FEATURE_COLORS
 def draw_convergence(ax, result, legend: bool = True) -> None:
     """Draw one case's convergence on ``ax`` (weights left axis, trajectory error right).
 
-    ``result`` is a :class:`~ioc_bench.bench.case.CaseResult` (or anything with its fields).
+    ``result`` is a :class:`~ioc_bench.synthetic.case.CaseResult` (or anything with its fields).
     """
     its = np.arange(len(result.history))
     weights = _weights(result.history, len(result.features))

@@ -1,6 +1,6 @@
 """The paper's Table I and Figures 4-6, drawn from a directory of case results.
 
-Everything here reads finished :class:`~ioc_bench.bench.case.CaseResult` records and
+Everything here reads finished :class:`~ioc_bench.synthetic.case.CaseResult` records and
 never runs an optimization, so the figures of any algorithm (or of several side by side)
 can be remade at will from ``ioc-bench run`` output. Results of one algorithm with
 different configs are drawn as different algorithms (``name__cfg<digest>``, as their
@@ -24,14 +24,15 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import AXES, CONDITIONS
-from ioc_bench.bench.results import run_slug, select_results
-from ioc_bench.bench.robustness import curves as robustness_curves
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
 from ioc_bench.fileio import atomic_write_text
 from ioc_bench.paths import PathError, check_file_name, check_output_dir, check_output_file
 from ioc_bench.plotting import plt, save_figure
+from ioc_bench.runner.results import select_results
+from ioc_bench.synthetic.case import CaseResult
+from ioc_bench.synthetic.conditions import AXES, CONDITIONS
+from ioc_bench.synthetic.results import run_slug
+from ioc_bench.synthetic.robustness import curves as robustness_curves
 from ioc_bench.table1 import markdown_table, pattern_summary
 from ioc_bench.viz.common import FEATURE_COLORS
 from ioc_bench.viz.convergence import draw_convergence
@@ -407,7 +408,7 @@ def output_names(results: Sequence[CaseResult]) -> dict[str, str]:
     """Figure name -> file name of everything :func:`make_figures` writes for ``results``.
 
     File names are built from checked identifiers only (an algorithm's name and config
-    digest, :func:`~ioc_bench.bench.results.run_slug`) and each must be a plain file name
+    digest, :func:`~ioc_bench.synthetic.results.run_slug`) and each must be a plain file name
     (:func:`~ioc_bench.paths.check_file_name`): content never names a path. Raises
     ``ValueError`` otherwise.
     """
@@ -465,7 +466,7 @@ def plan_figures(
 ) -> FigurePlan:
     """Read and check everything :func:`make_figures` needs, before anything is drawn.
 
-    Raises ``ValueError`` as :func:`~ioc_bench.bench.results.select_results` does, for a
+    Raises ``ValueError`` as :func:`~ioc_bench.runner.results.select_results` does, for a
     result whose algorithm cannot name a file (:func:`output_names`), and
     :class:`~ioc_bench.paths.PathError` (its message starting with ``out_name``) for an
     ``out_dir``, or a file in it, that cannot be written (:mod:`ioc_bench.paths`' checks).

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from ioc_bench.bench.board_html import html_page
+from ioc_bench.runner.board_html import html_page
 
 # A PNG's signature and a few bytes: the page embeds files, it does not decode them.
 PNG = b"\x89PNG\r\n\x1a\n" + bytes(range(64))

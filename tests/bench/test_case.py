@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import ioc_bench
-from ioc_bench.bench.results import parse_result
 from ioc_bench.ioc import registry
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 from ioc_bench.provenance import provenance
+from ioc_bench.synthetic.results import parse_result
 
 
 @pytest.fixture
@@ -76,10 +76,10 @@ def test_result_round_trips_through_json(register, ideal_nominal_cached):
 
 
 def test_a_stored_reference_is_the_same_and_counts_its_projections(nominal_demo, tmp_path, monkeypatch):
-    from ioc_bench.bench.demos import ReferenceCache
-    from ioc_bench.bench.observe import observe
     from ioc_bench.features import COST_FEATURES
     from ioc_bench.ioc.problem import IOCProblem
+    from ioc_bench.synthetic.demos import ReferenceCache
+    from ioc_bench.synthetic.observe import observe
     from ioc_bench.trajopt.forward_problem import ForwardProblem
 
     observed = observe(nominal_demo.trajectory, 0.05, np.random.default_rng(3))

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from synthetic import ALGORITHMS, CONDITIONS, grid_errors, synthetic_result, write_run
 
-from ioc_bench.bench.compare import BETTER, NA, SAME, WORSE, compare_folders, compare_results, verdict
+from ioc_bench.cli.compare import compare_folders
+from ioc_bench.synthetic.compare import BETTER, NA, SAME, WORSE, compare_results, verdict
 
 
 def cells_by(comparison):

@@ -22,17 +22,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ioc_bench.bench import runner
-from ioc_bench.bench.case import CaseSpec
-from ioc_bench.bench.demos import DemoRequest, ReferenceCache, demonstration, mismatch
-from ioc_bench.bench.results import (
+from ioc_bench.cli import main
+from ioc_bench.runner import run as runner
+from ioc_bench.runner.results import (
     ResultFileError,
     check_not_held,
     read_result,
     results_directory,
     write_result,
 )
-from ioc_bench.cli import main
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.demos import DemoRequest, ReferenceCache, demonstration, mismatch
 from ioc_bench.task import Task
 from ioc_bench.trajopt.solution import SolverReport, StartPoint
 from ioc_bench.weights import parse_weights
@@ -73,7 +73,7 @@ def test_a_killed_run_leaves_no_worker_and_no_lock_behind(tmp_path):
     script = textwrap.dedent(
         """
         import os, sys, time
-        from ioc_bench.bench.results import results_directory
+        from ioc_bench.runner.results import results_directory
         from ioc_bench.processes import die_with_parent
         with results_directory(sys.argv[1]):
             parent = os.getpid()
@@ -299,7 +299,7 @@ def test_a_results_folder_moved_or_replaced_mid_run_stops_the_writes(tmp_path, m
 
 
 def test_a_full_disk_is_a_one_line_error_that_leaves_no_partial_file(tmp_path, make_result, monkeypatch):
-    from ioc_bench.bench import results
+    from ioc_bench.runner import results
 
     def full(path, data):
         raise OSError(errno.ENOSPC, "No space left on device", str(path))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ioc_bench.bench.observe import observe
+from ioc_bench.synthetic.observe import observe
 from ioc_bench.trajectory import Observation, Trajectory
 from ioc_bench.trajopt.tracking import signal_spans
 

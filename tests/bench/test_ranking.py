@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 from synthetic import synthetic_result
 
-from ioc_bench.bench.leaderboard import row_condition, summarise
-from ioc_bench.bench.ranking import RANKED_CONDITIONS, grid_lines, paper_lines, rank, ranking_lines
+from ioc_bench.synthetic.board import row_condition, summarise
+from ioc_bench.synthetic.ranking import RANKED_CONDITIONS, grid_lines, paper_lines, rank, ranking_lines
 
 
 def _cases(algorithm: str, errors: dict[str, float], seeds=(0, 1, 2), weight_sets=("nominal", "penalize-knee")):

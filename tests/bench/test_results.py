@@ -13,22 +13,21 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.leaderboard import markdown, summarise
-from ioc_bench.bench.results import (
-    CaseSpec,
+from ioc_bench.ioc.registry import AlgorithmError
+from ioc_bench.provenance import provenance
+from ioc_bench.runner.leaderboard import markdown
+from ioc_bench.runner.results import (
     ResultFileError,
     load_results,
-    parse_result,
     read_result,
-    recorded_spec,
     result_files,
     results_directory,
     stored_result,
     write_result,
 )
-from ioc_bench.ioc.registry import AlgorithmError
-from ioc_bench.provenance import provenance
+from ioc_bench.synthetic.board import summarise
+from ioc_bench.synthetic.case import CaseResult, CaseSpec
+from ioc_bench.synthetic.results import parse_result, recorded_spec
 
 # -- identity ------------------------------------------------------------------------------
 
@@ -215,10 +214,11 @@ def test_config_errors_are_algorithm_errors():
 
 def test_every_condition_of_every_suite_is_found_again_when_its_file_is_written(tmp_path, make_result):
     """A result written under any suite's condition name (``mass+20`` has a sign) is loaded back."""
-    from ioc_bench.bench.results import CaseSpec, load_results, write_result
-    from ioc_bench.bench.suites import SUITES, is_human
+    from ioc_bench.runner.results import load_results, write_result
+    from ioc_bench.synthetic.case import CaseSpec
+    from ioc_bench.synthetic.suites import SUITES
 
-    conditions = sorted({c for suite in SUITES.values() if not is_human(suite) for c in suite.conditions})
+    conditions = sorted({c for suite in SUITES.values() for c in suite.conditions})
     for condition in conditions:
         write_result(tmp_path, CaseSpec("log-barrier", "nominal", condition, 0), make_result(condition=condition))
     assert sorted(r.condition for r in load_results(tmp_path)) == conditions
@@ -395,7 +395,7 @@ def test_a_result_keeps_the_provenance_it_ran_with_and_one_without_it_has_none_r
 
 
 def test_a_case_records_the_provenance_of_the_process_that_ran_it():
-    from ioc_bench.bench.case import failure
+    from ioc_bench.synthetic.case import failure
 
     assert failure(CaseSpec("log-barrier", "nominal", "ideal", 0), "timed out").provenance == provenance()
 
@@ -410,7 +410,8 @@ def test_a_failed_case_may_lack_its_estimate_and_a_huge_seed_is_a_seed(tmp_path,
 
 
 def test_a_result_of_another_basis_is_named_by_it_and_read_back(tmp_path, make_result):
-    from ioc_bench.bench.results import load_results, run_label, run_slug, write_result
+    from ioc_bench.runner.results import load_results, write_result
+    from ioc_bench.synthetic.results import run_label, run_slug
 
     spec = CaseSpec("log-barrier", "penalize-work", "ideal", 0, basis="energetics")
     record = make_result(weight_set="penalize-work", basis="energetics")
@@ -422,7 +423,7 @@ def test_a_result_of_another_basis_is_named_by_it_and_read_back(tmp_path, make_r
 
 
 def test_a_result_without_a_basis_is_of_the_effort_basis(make_result):
-    from ioc_bench.bench.results import parse_result
+    from ioc_bench.synthetic.results import parse_result
 
     data = json.loads(json.dumps(make_result().to_dict()))
     del data["basis"]

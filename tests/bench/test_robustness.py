@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import AXES, axis_conditions
-from ioc_bench.bench.robustness import auc_table, curves
-from ioc_bench.bench.suites import get_suite
+from ioc_bench.synthetic.case import CaseResult
+from ioc_bench.synthetic.conditions import AXES, axis_conditions
+from ioc_bench.synthetic.robustness import auc_table, curves
+from ioc_bench.synthetic.suites import get_suite
 
 
 def _result(condition: str, error: float, weight_set: str = "nominal") -> CaseResult:

@@ -13,13 +13,14 @@ import time
 import pytest
 
 import ioc_bench
-from ioc_bench.bench import runner
-from ioc_bench.bench.executor import EXECUTORS, Job, failure_of, get_executor, schedule
-from ioc_bench.bench.results import CaseSpec, ResultFileError, load_results, read_result, write_result
-from ioc_bench.bench.runner import run_cases
-from ioc_bench.bench.suites import get_suite
 from ioc_bench.ioc import registry
 from ioc_bench.ioc.algorithm import IOCAlgorithm
+from ioc_bench.runner import run as runner
+from ioc_bench.runner.executor import EXECUTORS, Job, failure_of, get_executor, schedule
+from ioc_bench.runner.results import ResultFileError, load_results, read_result, write_result
+from ioc_bench.runner.run import run_cases
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.suites import get_suite
 
 #: A quick configuration of the paper's method, enough to exercise the runner.
 QUICK = {"n_random": 1, "max_iterations": 2}
@@ -165,7 +166,7 @@ def test_a_ray_cluster_that_never_answers_is_one_line_after_the_deadline(tmp_pat
     pytest.importorskip("ray")
     import socket
 
-    from ioc_bench.bench import ray_executor
+    from ioc_bench.runner import ray_executor
 
     monkeypatch.setattr(ray_executor, "CONNECT_TIMEOUT", 4.0)
     with socket.socket() as silent:

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ioc_bench.bench.statistics import bootstrap_mean_ci, stratified_mean_ci
+from ioc_bench.synthetic.statistics import bootstrap_mean_ci, stratified_mean_ci
 
 
 def test_seeds_that_agree_give_a_point_whatever_the_spread_between_weight_sets():

@@ -2,9 +2,9 @@ from __future__ import annotations
 
 import pytest
 
-from ioc_bench.bench.case import CaseSpec
-from ioc_bench.bench.conditions import CONDITIONS, Condition, register_condition
-from ioc_bench.bench.suites import SUITES, Suite, get_suite
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.conditions import CONDITIONS, Condition, register_condition
+from ioc_bench.synthetic.suites import SUITES, Suite, get_suite
 
 
 def test_paper_suite_is_four_weight_sets_by_the_papers_conditions_noise_kinematics_and_multi_trial():
@@ -50,8 +50,8 @@ def test_bad_suites_and_unknown_names():
 
 
 def test_a_user_condition_needs_no_runner_change(monkeypatch):
-    monkeypatch.setattr("ioc_bench.bench.conditions.CONDITIONS", dict(CONDITIONS))
-    from ioc_bench.bench import conditions
+    monkeypatch.setattr("ioc_bench.synthetic.conditions.CONDITIONS", dict(CONDITIONS))
+    from ioc_bench.synthetic import conditions
 
     cond = register_condition(Condition("noise-20", "20 % noise", noise=0.20))
     assert conditions.get_condition("noise-20") is cond

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from ioc_bench import Task, optimize_gait
-from ioc_bench.bench.transfer import transfer, transfer_task
 from ioc_bench.features import COST_FEATURES
+from ioc_bench.synthetic.transfer import transfer, transfer_task
 
 
 @pytest.fixture(scope="module")

@@ -33,19 +33,13 @@ import pytest
 
 import ioc_bench
 from ioc_bench import Demonstration, DemonstrationFileError, Task, optimize_gait, run_case
-from ioc_bench.bench import runner
-from ioc_bench.bench.leaderboard import write_leaderboard
-from ioc_bench.bench.results import (
-    CaseSpec,
-    ResultFileError,
-    load_results,
-    parse_result,
-    read_result,
-    results_directory,
-    write_result,
-)
 from ioc_bench.cli import main
 from ioc_bench.paths import PathError, check_output_dir, read_bytes
+from ioc_bench.runner import run as runner
+from ioc_bench.runner.leaderboard import write_leaderboard
+from ioc_bench.runner.results import ResultFileError, load_results, read_result, results_directory, write_result
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.results import parse_result
 from ioc_bench.viz.figures import make_figures
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "bad_input.md"
@@ -796,7 +790,7 @@ HOSTILE_HANDLING = [
      "tests/bench/test_results.py::test_out_of_range_values_are_refused, "
      "tests/test_hostile_inputs.py::test_property_a_spoilt_record_is_refused_with_one_line_naming_the_file"),
     ("run_case(demo=<penalize-knee demonstration>, weights='nominal') scores against the wrong truth",
-     "refused by the one case pipeline (bench/case.py): a demonstration of another case is a ValueError",
+     "refused by the one case pipeline (synthetic/case.py): a demonstration of another case is a ValueError",
      "the API row run_case(weights=\"penalize-knee\", demo=...) above"),
     ("outputs under /proc or /sys, through a link loop, with a 256-byte name, or '' pass a check "
      "(os.access says yes as root) and fail after the solve",

@@ -7,8 +7,8 @@ import json
 import pytest
 from synthetic import grid_errors, write_run
 
-from ioc_bench.bench.compare import compare_folders
 from ioc_bench.cli import main
+from ioc_bench.cli.compare import compare_folders
 
 
 def _run(capsys, *argv) -> tuple[int, str, str]:

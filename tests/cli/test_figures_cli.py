@@ -7,9 +7,9 @@ import json
 import pytest
 from synthetic import synthetic_result
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.results import CaseSpec, write_result
 from ioc_bench.cli import main
+from ioc_bench.runner.results import write_result
+from ioc_bench.synthetic.case import CaseResult, CaseSpec
 
 
 def _case(algorithm: str, weight_set: str, condition: str, status: str = "converged") -> CaseResult:

@@ -9,11 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from ioc_bench.bench import runner
-from ioc_bench.bench.results import ResultFileError, results_directory, select_results
 from ioc_bench.cli import main
 from ioc_bench.human import shipped_folder
 from ioc_bench.human.case import HumanCaseSpec
+from ioc_bench.runner import run as runner
+from ioc_bench.runner.results import ResultFileError, results_directory, select_results
 
 
 def _run(capsys, *argv):
@@ -131,7 +131,7 @@ def test_one_small_case_end_to_end_locked_and_resumed(capsys, tmp_path, monkeypa
         results = json.loads((out / written[0]).read_text())
         results["scores"]["T04"]["skill"] = 99.0
         (out / written[0]).write_text(json.dumps(results))
-        from ioc_bench.bench.results import read_result
+        from ioc_bench.runner.results import read_result
 
         read_result(out / written[0], out)
 

@@ -173,3 +173,30 @@ def test_a_step_that_cannot_be_replayed_keeps_its_verdict(nominal_demo: Demonstr
 def test_replay_rejects_no_steps(nominal_demo: Demonstration):
     with pytest.raises(ValueError, match="steps"):
         replay(nominal_demo, steps=0)
+
+
+def test_the_checks_share_one_compiled_model_and_judge_as_with_their_own(nominal_demo, monkeypatch):
+    """One MuJoCo model per replay: the physical checks are handed it, and they give the same
+    figures (to the last bit) as with a model each."""
+    import envs.physics as physics_module
+    from envs.physics import Physics
+
+    own_id = inverse_dynamics_check(nominal_demo)
+    own = physics_checks(nominal_demo, own_id)
+    builds = []
+    original = physics_module.build_model
+    monkeypatch.setattr(physics_module, "build_model", lambda *a, **k: builds.append(a) or original(*a, **k))
+    shared = Physics.of(nominal_demo.params)
+    shared_id = inverse_dynamics_check(nominal_demo, physics=shared)
+    checks = physics_checks(nominal_demo, shared_id, physics=shared)
+    assert len(builds) == 1
+    assert np.array_equal(shared_id.residual, own_id.residual)
+    assert [c.to_dict() for c in checks] == [c.to_dict() for c in own]
+
+
+def test_a_check_refuses_the_physics_of_other_parameters(nominal_demo):
+    from envs.physics import Physics
+
+    heavy = Physics.of(nominal_demo.params.with_leg_mass_scale(1.1))
+    with pytest.raises(ValueError, match="other parameters"):
+        inverse_dynamics_check(nominal_demo, physics=heavy)

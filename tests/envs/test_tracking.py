@@ -35,7 +35,8 @@ def test_policy_walks_ten_steps_in_the_default_environment(nominal_demo: Demonst
 
     With decisions only every 0.01 the walk may limp (the earlier short steps alternated
     by up to ~15 %, 0.85-1.05 for a 0.895 step; the current nominal step measured
-    1.32-1.33 for 1.29; docs/environment.md), so the pace is judged over the ten steps,
+    1.32-1.33 for 1.29; docs/notes/2026-11-25-env-physics-step-and-rates.md, "Control rate", and
+    docs/notes/2026-11-25-grazing-swing-feet.md), so the pace is judged over the ten steps,
     not step by step (the replay check does that at finer control).
     """
     env = PlanarWalkerEnv(demonstration=nominal_demo)

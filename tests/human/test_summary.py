@@ -8,12 +8,12 @@ import math
 
 import pytest
 
-from ioc_bench.bench.leaderboard import write_leaderboard
 from ioc_bench.human.board import markdown
 from ioc_bench.human.case import HumanCaseSpec
 from ioc_bench.human.opening import figure_caption, rankings
 from ioc_bench.human.record import HumanResult, SpeedScore, check_values
 from ioc_bench.human.scoring import NOMINAL, beats, skill_score
+from ioc_bench.runner.leaderboard import write_leaderboard
 
 #: The person's change of leg angles between the training speed and each predicted one (deg);
 #: copying the training step is off by exactly this much.

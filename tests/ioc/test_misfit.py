@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from ioc_bench import IOCProblem
-from ioc_bench.bench.observe import observe
-from ioc_bench.bench.results import parse_result
 from ioc_bench.ioc.misfit import THRESHOLD, gauss_newton_region, residual_test
+from ioc_bench.synthetic.observe import observe
+from ioc_bench.synthetic.results import parse_result
 
 FEATURES = ("hip", "knee", "dtau")
 

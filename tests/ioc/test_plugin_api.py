@@ -22,11 +22,11 @@ import pytest
 
 import ioc_bench
 from ioc_bench import IOCResult, IterationRecord, ModelFit, WeightRegion, run_case
-from ioc_bench.bench.case import CaseSpec
-from ioc_bench.bench.results import load_results
-from ioc_bench.bench.runner import run_cases
 from ioc_bench.ioc import registry
 from ioc_bench.ioc.contract import contract_breach
+from ioc_bench.runner.results import load_results
+from ioc_bench.runner.run import run_cases
+from ioc_bench.synthetic.case import CaseSpec
 
 PACKAGE = Path(__file__).parent / "plugin_pkg"
 MALFORMED = [

@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ioc_bench.bench.observe import observe
 from ioc_bench.features import COST_FEATURES
 from ioc_bench.ioc.problem import IOCProblem
+from ioc_bench.synthetic.observe import observe
 
 
 @pytest.fixture(scope="module")

@@ -134,6 +134,36 @@ def test_canonical_config_keeps_only_what_differs_from_the_defaults():
         registry.canonical_config("log-barrier", [1, 2])
 
 
+@pytest.mark.parametrize("config", [{}, {"offset": 1.5, "n_random": 2}])
+def test_canonical_config_builds_no_algorithm(monkeypatch, config):
+    """A case builds its algorithm once, to run it; making its canonical config builds none."""
+    expected = ioc_bench.make_algorithm("log-barrier", **config).config_dict()
+    built = []
+    make = registry.make_algorithm
+    monkeypatch.setattr(registry, "make_algorithm", lambda *a, **k: built.append(a) or make(*a, **k))
+    assert registry.canonical_config("log-barrier", config) == {k: v for k, v in config.items() if k == "n_random"}
+    assert registry._effective_config("log-barrier", config) == expected
+    assert not built
+    with pytest.raises(registry.AlgorithmError, match=r"n_random must be an integer, got 1\.5"):
+        registry.canonical_config("log-barrier", {"n_random": 1.5})
+    with pytest.raises(registry.AlgorithmError, match="n_random must be >= 0"):
+        registry.canonical_config("log-barrier", {"n_random": -1})
+
+
+def test_an_algorithm_that_builds_its_own_way_is_built_to_ask_its_config(clean_registry):
+    class OwnWay(_Fixed):
+        def __init__(self, **overrides):
+            super().__init__(**overrides)
+            self.built = True
+
+        def config_dict(self):
+            return {"marker": 1}
+
+    ioc_bench.register_algorithm("own-way")(OwnWay)
+    assert registry.canonical_config("own-way", {}) == {}
+    assert registry._effective_config("own-way", {}) == {"marker": 1}
+
+
 @pytest.mark.parametrize("name", ["../x", "a/b", ".hidden", "", "x" * 101, "a b", "..", "a..b"])
 def test_names_that_cannot_be_folder_names_are_refused(clean_registry, name):
     with pytest.raises(registry.AlgorithmError, match="invalid algorithm name"):

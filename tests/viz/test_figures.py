@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 from synthetic import estimate_with_error
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.results import CaseSpec, parse_result, write_result
 from ioc_bench.features import ALL_FEATURES, COST_FEATURES
+from ioc_bench.runner.results import write_result
+from ioc_bench.synthetic.case import CaseResult, CaseSpec
+from ioc_bench.synthetic.results import parse_result
 from ioc_bench.viz import figures
 from ioc_bench.weights import WEIGHT_SETS, parse_weights
 

@@ -12,7 +12,7 @@ weight set and its interval is a point. That is the honest answer, not a lack of
 
 :func:`bootstrap_mean_ci` (cases as the units) serves the robustness curves, whose
 points have one seed per weight set: their interval is over the weight sets; and
-``ioc-bench compare`` (:mod:`ioc_bench.bench.compare`), whose units are the paired
+``ioc-bench compare`` (:mod:`ioc_bench.synthetic.compare`), whose units are the paired
 differences of two runs' cases.
 """
 

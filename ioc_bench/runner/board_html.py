@@ -1,6 +1,6 @@
 """A leaderboard's Markdown as one self-contained HTML page: figures inline, tables sortable.
 
-:func:`html_page` converts a board's Markdown (:func:`ioc_bench.bench.leaderboard.markdown`)
+:func:`html_page` converts a board's Markdown (:func:`ioc_bench.runner.leaderboard.markdown`)
 with Python-Markdown and returns a page that needs nothing beside it and no network: every
 local figure under the board's folder is inlined as a ``data:`` URI, the style and the
 table-sorting script are inline, and a Content-Security-Policy keeps the browser from

@@ -2,7 +2,7 @@
 
 The paper measures each perturbation at one size; users choosing a method need to know how
 fast it degrades. For every algorithm (and config) and robustness axis (noise, leg-mass
-error, speed error; :data:`~ioc_bench.bench.conditions.AXES`), the curve is the mean weight
+error, speed error; :data:`~ioc_bench.synthetic.conditions.AXES`), the curve is the mean weight
 error at each severity (``ideal`` is severity 0 on every axis), with a 95 % bootstrap
 interval over the cases at that severity. The one-number summary of an axis is the area
 under its curve divided by the severity range it spans: the mean weight error over the
@@ -17,11 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition
-from ioc_bench.bench.results import run_label
-from ioc_bench.bench.statistics import bootstrap_mean_ci
-from ioc_bench.bench.suites import get_suite
+from ioc_bench.synthetic.case import CaseResult
+from ioc_bench.synthetic.conditions import AXES, axis_conditions, get_condition
+from ioc_bench.synthetic.results import run_label
+from ioc_bench.synthetic.statistics import bootstrap_mean_ci
+from ioc_bench.synthetic.suites import get_suite
 
 
 @dataclass(frozen=True)

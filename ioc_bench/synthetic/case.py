@@ -1,10 +1,11 @@
 """One benchmark case: an algorithm recovering one weight set of one model under one condition.
 
 A :class:`CaseSpec` names a case and is resolved once, when made: its model, its true
-weights, its condition and its config are checked and kept. :func:`run_case` (the Python
-API and ``ioc-bench ioc``) and the suite runner (``ioc-bench run``) both go through
-:func:`run_spec`: make (or load) the demonstration, show the IOC what the condition lets it
-see, run the algorithm, check what it returned at the boundary
+weights, its features, its condition and its config are checked and kept, and every layer
+below reads them from it. :func:`run_case` (the Python API and ``ioc-bench ioc``) and the
+suite runner (``ioc-bench run``) both go through :func:`run_spec`, handing it the algorithm
+built once for the case: make (or load) the demonstration, show the IOC what the condition
+lets it see, run the algorithm, check what it returned at the boundary
 (:mod:`ioc_bench.ioc.contract`) and score it on the case's own problem. Whatever the
 algorithm does (raises, returns something the contract does not allow), the case ends in a
 :class:`CaseResult` with a status, a reason, and the time and forward solves it spent; it
@@ -18,23 +19,18 @@ import json
 import os
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ioc_bench._version import __version__
-from ioc_bench.bases import DEFAULT_BASIS, forward_basis, get_basis
-from ioc_bench.bench.conditions import Condition, get_condition
-from ioc_bench.bench.demos import DemoRequest, ReferenceCache, demonstration
-from ioc_bench.bench.observe import observe
-from ioc_bench.bench.scoring import unit, weight_error
-from ioc_bench.bench.transfer import transfer, transfer_task
+from ioc_bench.bases import DEFAULT_BASIS, forward_basis, get_basis, parse_basis_weights
 from ioc_bench.cache import check_cache
 from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
-from ioc_bench.ioc.algorithm import IOCResult
+from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 from ioc_bench.ioc.fit import Fit, fit
 from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem, MultiTrialProblem
@@ -47,23 +43,28 @@ from ioc_bench.ioc.registry import (
     make_algorithm,
 )
 from ioc_bench.metrics import trajectory_error
-from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.catalogue import DEFAULT_MODEL, resolve_model
 from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.provenance import provenance
+from ioc_bench.synthetic.conditions import Condition, get_condition
+from ioc_bench.synthetic.demos import DemoRequest, ReferenceCache, demonstration
+from ioc_bench.synthetic.observe import observe
+from ioc_bench.synthetic.scoring import unit, weight_error
+from ioc_bench.synthetic.transfer import transfer, transfer_task
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, full_weights, parse_weights
 
 #: Stream of the observation-noise generator (kept apart from the algorithm's streams).
 NOISE_STREAM = 7
 #: Proximal weight of the first scoring solve (see :func:`regenerate`).
 SCORING_PROXIMAL = 30.0
-#: The model a case uses unless it names one (and whose result files carry no model in their name).
-DEFAULT_MODEL = "walker"
 
 
 @dataclass(frozen=True)
 class CaseSpec:
     """What identifies a case, resolved and checked once, when made.
 
+    The model (a name, or the catalogue's model itself) is resolved once and kept beside its
+    name, as the condition is; the case's cost features and features are computed once.
     Raises ``ValueError`` (one line) for an unsafe algorithm name, an unknown model, weight
     set or condition, a condition whose features the model lacks, a seed that is not a
     non-negative integer, or a bad config; ``config`` is stored in canonical form (which
@@ -75,7 +76,7 @@ class CaseSpec:
         condition: the condition's name (a :class:`Condition` is accepted and kept).
         seed: the case's seed (demonstration multi-start, observation noise, algorithm).
         config: the algorithm's config overrides (canonical: fields that differ from defaults).
-        model: the gait model's name.
+        model: the gait model's name (the model itself is accepted and kept: :attr:`gait_model`).
         basis: the cost basis the true weights are over and the IOC weighs
             (:data:`~ioc_bench.bases.COST_BASES`; its features after the condition's).
     """
@@ -95,15 +96,19 @@ class CaseSpec:
         cond = self.condition if isinstance(self.condition, Condition) else get_condition(self.condition)
         object.__setattr__(self, "condition", cond.name)
         object.__setattr__(self, "_condition", cond)
-        if not isinstance(self.model, str):
+        if not isinstance(self.model, (str, GaitModel)):
             raise ValueError(f"a case's model is a model name, got {type(self.model).__name__}")
-        gait_model = get_model(self.model)
+        gait_model = resolve_model(self.model)
+        object.__setattr__(self, "model", gait_model.name)
         object.__setattr__(self, "_model", gait_model)
         if not isinstance(self.weight_set, str):
             raise ValueError(f"a case's weight set is a name or 'hip,knee,dtau' text, got {self.weight_set!r}")
-        basis = get_basis(self.basis)
-        object.__setattr__(self, "true_weights", basis.parse_weights(self.weight_set, gait_model))
-        if not any(f in self.cost_features for f in self.features):
+        cost = get_basis(self.basis).features(gait_model)
+        object.__setattr__(self, "_cost_features", cost)
+        object.__setattr__(self, "true_weights", parse_basis_weights(self.weight_set, cost))
+        object.__setattr__(self, "_features", cond.features_for(gait_model, cost))
+        object.__setattr__(self, "_demo_basis", forward_basis(gait_model, cost))
+        if not any(f in cost for f in self.features):
             raise ValueError(f"condition {cond.name!r} offers model {self.model!r} none of its cost features")
         object.__setattr__(self, "seed", check_seed(self.seed))
         config = check_config(self.config)
@@ -122,17 +127,21 @@ class CaseSpec:
     @property
     def cost_features(self) -> tuple[str, ...]:
         """The features the true weights are over: the case's basis on its model."""
-        return get_basis(self.basis).features(self.gait_model)
+        return self._cost_features  # type: ignore[attr-defined]
 
     @property
     def features(self) -> tuple[str, ...]:
         """The features the IOC may weigh in this case: the condition's, then the basis's others."""
-        return self.condition_def.features_for(self.gait_model, self.cost_features)
+        return self._features  # type: ignore[attr-defined]
 
     @property
     def demo_basis(self) -> tuple[str, ...] | None:
         """The basis the demonstrations are solved in (None: the model's default)."""
-        return forward_basis(self.gait_model, self.cost_features)
+        return self._demo_basis  # type: ignore[attr-defined]
+
+    def make_algorithm(self) -> IOCAlgorithm:
+        """The case's algorithm with its config (build it once per case and pass it down)."""
+        return make_algorithm(self.algorithm, **self.config)
 
     def true_over_features(self) -> np.ndarray:
         """The unit true weights over :attr:`features` (features outside the cost set get 0)."""
@@ -162,7 +171,7 @@ class CaseSpec:
 
     def transfer_request(self, params: GaitParams | None = None) -> DemoRequest | None:
         """The true weights' demonstration at the speed this case's cost is tested at
-        (:mod:`ioc_bench.bench.transfer`), or None if its speed has no counterpart (or the
+        (:mod:`ioc_bench.synthetic.transfer`), or None if its speed has no counterpart (or the
         case observes several speeds already)."""
         task = transfer_task(self.condition_def.demo_speed)
         if task is None or len(self.condition_def.speeds) > 1:
@@ -178,8 +187,13 @@ class CaseSpec:
             return self.true_weights
         return full_weights(self.true_weights, self.cost_features, basis)
 
-    # -- the case protocol (:mod:`ioc_bench.bench.protocol`) ---------------------------------------
+    # -- the case protocol (:mod:`ioc_bench.runner.protocol`) ---------------------------------------
     track = "synthetic"
+
+    @classmethod
+    def identity_fields(cls) -> tuple[str, ...]:
+        """The fields that name a case: a result file's name and content agree on each."""
+        return tuple(f.name for f in fields(cls) if f.init)
 
     def needs(self) -> list[DemoRequest]:
         """The demonstrations the case needs: every trial's and, if it has one, the one its cost
@@ -254,7 +268,7 @@ class CaseResult:
             dict), None if it reports none.
         covered: whether that region holds the true weights (None without a region).
         transfer: the estimated weights' optimum at the other speed against the true one
-            there (:class:`~ioc_bench.bench.transfer.Transfer` as a dict), None if the case
+            there (:class:`~ioc_bench.synthetic.transfer.Transfer` as a dict), None if the case
             has no other speed or failed.
         scoring_time: seconds spent scoring after the algorithm (re-solving its weights'
             step, the transfer solve), not counted in ``wall_time``.
@@ -356,13 +370,14 @@ def run_case(
             config, a seed that is not a non-negative integer, a demonstration of another
             case), before any solve.
     """
-    name = model.name if isinstance(model, GaitModel) else model
+    if isinstance(model, (str, GaitModel)):
+        model = resolve_model(model)  # once: the spec keeps it (anything else the spec refuses)
     if not isinstance(weights, str):
-        features = get_basis(basis).features(get_model(name))
+        features = get_basis(basis).features(model)
         weights = weight_set_label(parse_weights(weights, features) if _is_mapping(weights) else weights)
-    spec = CaseSpec(algorithm, weights, condition, check_seed(seed), check_config(config), name, basis)
-    make_algorithm(spec.algorithm, **spec.config)  # the name and every config field, before any work
-    return run_spec(spec, params, demo)
+    spec = CaseSpec(algorithm, weights, condition, check_seed(seed), check_config(config), model, basis)
+    algo = spec.make_algorithm()  # the name and every config field, before any work; built once
+    return run_spec(spec, params, demo, algo=algo)
 
 
 def _is_mapping(value: Any) -> bool:
@@ -375,11 +390,17 @@ def run_spec(
     demo: Demonstration | None = None,
     transfer_demo: Demonstration | None = None,
     trial_demos: Sequence[Demonstration] = (),
+    *,
+    algo: IOCAlgorithm | None = None,
 ) -> CaseResult:
     """Run and score the case ``spec`` (see :func:`run_case`; the runner's entry point, which
     hands over the demonstrations it prepared: the observed one, the other trials' of a
-    multi-trial case, and the transfer speed's)."""
-    algo = make_algorithm(spec.algorithm, **spec.config)
+    multi-trial case, and the transfer speed's).
+
+    ``algo`` is the case's algorithm if the caller built it already (``spec.make_algorithm()``:
+    built once per case, then used for the record's config and the fit); None builds it here.
+    """
+    algo = _case_algorithm(spec, algo)
     params = _params(spec, params, demo)
     requests = spec.demo_requests(params)
     given = [demo, *trial_demos] if demo is not None else list(trial_demos)
@@ -401,7 +422,7 @@ def run_spec(
         base["demo_features"] = {}  # a failed demonstration's features describe no optimum
         return _failed(base, f"the demonstration could not be solved ({unsolved[0].solver.status})")
     problem = _problem(spec, params, demos)
-    outcome = fit(spec.algorithm, spec.config, problem)
+    outcome = fit(algo, problem)
     if outcome.failed:
         return _failed(base, outcome.reason, outcome)
     truth = None if other is None else (transfer_demo if transfer_demo is not None else demonstration(other))
@@ -410,8 +431,19 @@ def run_spec(
     if truth is not None and not truth.solver.success:
         scored = replace(scored, transfer={"speed": other.task.speed, "status": "no demonstration"})
     elif truth is not None:
-        scored = replace(scored, transfer=transfer(np.array(scored.weights), spec.features, truth).to_dict())
+        moved = transfer(np.array(scored.weights), spec.features, truth, model=spec.gait_model)
+        scored = replace(scored, transfer=moved.to_dict())
     return replace(scored, scoring_time=time.perf_counter() - t1)
+
+
+def _case_algorithm(spec: CaseSpec, algo: IOCAlgorithm | None) -> IOCAlgorithm:
+    """``algo``, if it is the case's algorithm (else ``ValueError``), or the case's built now."""
+    if algo is None:
+        return spec.make_algorithm()
+    if not isinstance(algo, IOCAlgorithm) or algo.name != spec.algorithm:
+        given = getattr(algo, "name", "") or type(algo).__name__
+        raise ValueError(f"the algorithm given ({given}) is not the case's, {spec.algorithm!r}")
+    return algo
 
 
 def _problem(spec: CaseSpec, params: GaitParams, demos: Sequence[Demonstration]) -> IOCProblem | MultiTrialProblem:

@@ -5,7 +5,7 @@ executor (a Ray cluster must answer), the time limit, the results directory and 
 result files already in it. Then :meth:`RunPlan.run` holds the results directory (a
 lock; temporaries of killed writers removed), prepares the inputs the cases share
 (demonstrations, reference steps), and runs the cases on the executor
-(:mod:`ioc_bench.bench.executor`). The runner alone writes result files, atomically,
+(:mod:`ioc_bench.runner.executor`). The runner alone writes result files, atomically,
 as each case finishes: interrupting the run (Ctrl-C, a killed worker, a killed runner)
 loses no finished case.
 
@@ -13,7 +13,7 @@ Running the same command again skips every case whose file holds a success. A fa
 case (its algorithm failed, it timed out, its worker died) is recorded and shown, and
 retried on the next run unless ``keep_failed`` is set.
 
-Progress is logged to ``ioc_bench.bench.runner`` (besides the ``on_case`` and
+Progress is logged to ``ioc_bench.runner.run`` (besides the ``on_case`` and
 ``on_stage`` callbacks): each stage and each finished case at INFO, a failed case at
 WARNING.
 """
@@ -28,7 +28,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.bench.executor import (
+from ioc_bench.cache import check_cache
+from ioc_bench.ioc.registry import get_algorithm, make_algorithm
+from ioc_bench.paths import check_output_dir
+from ioc_bench.runner.executor import (
     DEFAULT_TIME_LIMIT,
     Executor,
     Job,
@@ -36,17 +39,14 @@ from ioc_bench.bench.executor import (
     get_executor,
     schedule,
 )
-from ioc_bench.bench.protocol import Case, Record
-from ioc_bench.bench.results import (
+from ioc_bench.runner.protocol import Case, Record
+from ioc_bench.runner.results import (
     ResultFileError,
     check_not_held,
     results_directory,
     stored_result,
     write_result,
 )
-from ioc_bench.cache import check_cache
-from ioc_bench.ioc.registry import get_algorithm, make_algorithm
-from ioc_bench.paths import check_output_dir
 
 OnCase = Callable[[Case, Record], None]
 
@@ -160,7 +160,7 @@ def plan_run(
     specs = list(specs)
     for spec in specs:
         if not all(hasattr(spec, name) for name in ("key", "needs", "run", "failure", "track")):
-            raise ValueError(f"expected cases (CaseSpec or HumanCaseSpec items), got {type(spec).__name__}")
+            raise ValueError(f"expected cases (of a track: the case protocol's), got {type(spec).__name__}")
         make_algorithm(spec.algorithm, **spec.config)
     plan = RunPlan(
         specs=specs,

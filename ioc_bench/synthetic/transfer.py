@@ -28,6 +28,7 @@ from ioc_bench.demo import Demonstration
 from ioc_bench.features import evaluate
 from ioc_bench.metrics import trajectory_error
 from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.task import FAST_SPEED, NOMINAL_SPEED, Task
 from ioc_bench.trajopt.forward_problem import SolveRequest, get_forward_problem
 from ioc_bench.trajopt.solution import StartPoint
@@ -58,10 +59,13 @@ class Transfer:
         return asdict(self)
 
 
-def transfer(weights: np.ndarray, features: Sequence[str], truth: Demonstration) -> Transfer:
+def transfer(
+    weights: np.ndarray, features: Sequence[str], truth: Demonstration, *, model: GaitModel | None = None
+) -> Transfer:
     """Solve unit ``weights`` over ``features`` for ``truth``'s model, parameters and task,
-    warm-started at ``truth`` (the true weights' optimum there), and compare."""
-    model = get_model(truth.model)
+    warm-started at ``truth`` (the true weights' optimum there), and compare. ``model`` is
+    ``truth``'s model if the caller resolved it already (a case has); None looks it up."""
+    model = get_model(truth.model) if model is None else model
     forward = get_forward_problem(model, truth.n_intervals, forward_basis(model, (*features, *truth.weights)))
     w = full_weights(np.asarray(weights, dtype=float), features, forward.features)
     duals = (truth.lam_x, truth.lam_g) if truth.lam_x.shape == (forward.n_x,) else (None, None)

@@ -1,15 +1,16 @@
 """Two runs compared cell by cell: what ``ioc-bench compare A B`` reports.
 
 A user iterating on an algorithm runs a suite, changes something, runs it again and asks
-what changed. Each run is a results folder (:func:`~ioc_bench.bench.results.select_results`
-reads it, as the leaderboard does). Cases are paired by their identity: algorithm, model,
-cost basis, weight set, condition and seed, and the config too, unless an algorithm has exactly one
-config in each run (then its cases pair across the two configs: comparing a new config
-with the old one is what ``compare`` is for). Pairs are grouped in the board's cells
-(model, algorithm with its config, condition: :func:`~ioc_bench.bench.leaderboard.row_condition`)
-and every score the board averages (:data:`SCORES`) is compared over the pairs in which
-both cases succeeded: the mean of B - A with a percentile-bootstrap interval over the
-pairs (:func:`~ioc_bench.bench.statistics.bootstrap_mean_ci`, seeded, the pairs being the
+what changed. Each run is its records (``ioc-bench compare`` reads them from two results
+folders, as the leaderboard does: :func:`ioc_bench.cli.compare.compare_folders`). Cases are
+paired by their identity: algorithm, model, cost basis, weight set, condition and seed, and
+the config too, unless an algorithm has exactly one config in each run (then its cases pair
+across the two configs: comparing a new config with the old one is what ``compare`` is for).
+Pairs are grouped in the board's cells (model, algorithm with its config, condition:
+:func:`~ioc_bench.synthetic.board.row_condition`) and every score the board averages
+(:data:`SCORES`) is compared over the pairs in which both cases succeeded: the mean of B - A
+with a percentile-bootstrap interval over the pairs
+(:func:`~ioc_bench.synthetic.statistics.bootstrap_mean_ci`, seeded, the pairs being the
 units: paired differences are what a re-run changes).
 
 A score's verdict, lower being better for every one: ``better`` or ``worse`` when its
@@ -20,14 +21,13 @@ from it; its difference is still reported). A cell's verdict is its weight error
 board's headline. Cases whose status changed (solved in one run, failed in the other, or
 another status), and cases in only one run, are listed apart: they have no difference.
 
-The human track's records are not compared (they are counted as skipped): their headline
-is a prediction error over several speeds, not a weight error.
+Other tracks' records (the human track's) are not compared (they are counted as skipped):
+their headline is not a weight error (the human track's: a prediction error over several speeds).
 """
 
 from __future__ import annotations
 
 import math
-import os
 from collections import defaultdict
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -35,13 +35,13 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.conditions import CONDITIONS
-from ioc_bench.bench.leaderboard import row_condition, split_tracks
-from ioc_bench.bench.protocol import Record
-from ioc_bench.bench.results import recorded_spec, result_config, run_label, select_results
-from ioc_bench.bench.statistics import RESAMPLES, bootstrap_mean_ci
 from ioc_bench.model.catalogue import MODELS
+from ioc_bench.runner.protocol import Record
+from ioc_bench.synthetic.board import row_condition
+from ioc_bench.synthetic.case import CaseResult
+from ioc_bench.synthetic.conditions import CONDITIONS
+from ioc_bench.synthetic.results import recorded_spec, result_config, run_label
+from ioc_bench.synthetic.statistics import RESAMPLES, bootstrap_mean_ci
 
 #: The verdicts a score or a cell can have.
 BETTER, WORSE, SAME, NA = "better", "worse", "no difference", "n/a"
@@ -53,7 +53,7 @@ SEED = 0
 
 @dataclass(frozen=True)
 class Score:
-    """A per-case score the board averages (its :class:`~ioc_bench.bench.leaderboard.Cell` field
+    """A per-case score the board averages (its :class:`~ioc_bench.synthetic.board.Cell` field
     ``name``), lower being better, and the smallest difference that counts.
 
     A difference of means within ``absolute + relative * mean |A|`` is numerical noise (two
@@ -230,14 +230,6 @@ class Comparison:
         }
 
 
-def compare_folders(a: str | os.PathLike, b: str | os.PathLike, level: float = 0.95) -> Comparison:
-    """Compare the results folders ``a`` and ``b`` (:func:`compare_results`); ``ValueError``
-    (one line) for a folder that cannot be read, a result file that does not read
-    (:class:`~ioc_bench.bench.results.ResultFileError`, naming it), a folder without
-    results, or no case in common."""
-    return compare_results(select_results(a), select_results(b), level, str(a), str(b))
-
-
 def compare_results(
     a: Sequence[Record], b: Sequence[Record], level: float = 0.95, name_a: str = "A", name_b: str = "B"
 ) -> Comparison:
@@ -248,11 +240,11 @@ def compare_results(
     """
     if not (isinstance(level, float | int) and 0 < level < 1):
         raise ValueError(f"the interval's level must be a number between 0 and 1, got {level!r}")
-    (syn_a, human_a), (syn_b, human_b) = split_tracks(a), split_tracks(b)
-    for name, syn, human in ((name_a, syn_a, human_a), (name_b, syn_b, human_b)):
+    (syn_a, others_a), (syn_b, others_b) = _split(a), _split(b)
+    for name, syn, others in ((name_a, syn_a, others_a), (name_b, syn_b, others_b)):
         if not syn:
             raise ValueError(
-                f"no synthetic-track case in {name} ({len(human)} human-track record(s): compare reads the "
+                f"no synthetic-track case in {name} ({len(others)} record(s) of other tracks: compare reads the "
                 "synthetic track only)"
             )
     across = _paired_across_configs(syn_a, syn_b)
@@ -274,7 +266,15 @@ def compare_results(
         cells[(r.model, group, row_condition(r), r.algorithm)][side].append((ra, rb))
     compared = [_compare_cell(cell, groups, level) for cell, groups in sorted(cells.items(), key=_cell_order)]
     tolerances = {s.name: {"absolute": s.absolute, "relative": s.relative} for s in SCORES}
-    return Comparison(name_a, name_b, float(level), tuple(compared), len(human_a), len(human_b), tolerances=tolerances)
+    return Comparison(
+        name_a, name_b, float(level), tuple(compared), len(others_a), len(others_b), tolerances=tolerances
+    )
+
+
+def _split(records: Sequence[Record]) -> tuple[list[CaseResult], list[Record]]:
+    """The synthetic track's records and the others', each in the given order."""
+    synthetic = [r for r in records if isinstance(r, CaseResult)]
+    return synthetic, [r for r in records if not isinstance(r, CaseResult)]
 
 
 def _holds(results: Sequence[CaseResult]) -> str:

@@ -5,7 +5,7 @@ worker runs one case and sends its result back through a pipe; the parent (the r
 writes it. A worker that dies without reporting becomes a failed result with its exit
 code; workers die with the parent however it dies (:mod:`ioc_bench.processes`), so a killed
 run leaves no orphaned cases (a worker's death is logged at WARNING to
-``ioc_bench.bench.process_pool``).
+``ioc_bench.runner.process_pool``).
 Each worker's numpy BLAS gets this machine's cores divided among the workers: unlimited,
 two workers with two BLAS threads each on 2 cores ran inverse-kkt's dense least squares
 2-3x slower (docs/performance.md, "Parallel cases and BLAS threads"). CasADi's own
@@ -24,11 +24,11 @@ from multiprocessing.connection import Connection, wait
 
 from threadpoolctl import threadpool_limits
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.executor import Job, execute, failure_of
-from ioc_bench.bench.results import parse_any
 from ioc_bench.checks import check_count
 from ioc_bench.processes import die_with_parent
+from ioc_bench.runner.executor import Job, execute, failure_of
+from ioc_bench.runner.protocol import Record
+from ioc_bench.runner.results import parse_any
 from ioc_bench.trajopt.forward_problem import get_forward_problem
 
 logger = logging.getLogger(__name__)
@@ -71,7 +71,7 @@ class ProcessPool:
         self._running[handle] = _Worker(job, process, parent)
         return handle
 
-    def poll(self, timeout: float) -> list[tuple[int, CaseResult]]:
+    def poll(self, timeout: float) -> list[tuple[int, Record]]:
         workers = list(self._running.values())
         wait([w.conn for w in workers] + [w.process.sentinel for w in workers], timeout=timeout)
         done = []
@@ -101,7 +101,7 @@ def _work(conn: Connection, job: Job, blas_threads: int, parent_pid: int) -> Non
     conn.close()
 
 
-def _collect(worker: _Worker) -> CaseResult | None:
+def _collect(worker: _Worker) -> Record | None:
     """The worker's result if it reported or died, else None (still running). Whether the
     process is alive is read before the pipe: a worker that has exited has written all it
     will, so a report sent before it died is read, not taken for a death. A worker that ended
@@ -125,7 +125,7 @@ def _collect(worker: _Worker) -> CaseResult | None:
     return None
 
 
-def _died(worker: _Worker) -> CaseResult:
+def _died(worker: _Worker) -> Record:
     """The failed record of a worker that exited without reporting (joined), logged."""
     code = worker.process.exitcode
     logger.warning(

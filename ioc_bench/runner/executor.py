@@ -4,8 +4,8 @@ An :class:`Executor` only starts jobs, reports the finished ones and cancels the
 it is told to; :func:`schedule` owns the queue, how many jobs are in flight and the
 per-case time limit, for every executor alike. Built in:
 
-- ``local``: forked worker processes on this machine (:mod:`ioc_bench.bench.process_pool`);
-- ``ray``: tasks on a Ray cluster (:mod:`ioc_bench.bench.ray_executor`, optional extra).
+- ``local``: forked worker processes on this machine (:mod:`ioc_bench.runner.process_pool`);
+- ``ray``: tasks on a Ray cluster (:mod:`ioc_bench.runner.ray_executor`, optional extra).
 
 Executors are registered as ``"module:Class"`` strings and imported only when asked
 for, so Ray is never imported by a local run. Whatever goes wrong with a job (its
@@ -13,7 +13,7 @@ worker dies, its Ray task fails, it runs over the time limit) becomes the case's
 record with the reason: a run never stops for one case.
 
 :func:`schedule` logs each case it starts (INFO) and each it cancels for running over
-the time limit (WARNING) to ``ioc_bench.bench.executor``.
+the time limit (WARNING) to ``ioc_bench.runner.executor``.
 """
 
 from __future__ import annotations
@@ -26,9 +26,9 @@ from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-from ioc_bench.bench.protocol import Case, Record
 from ioc_bench.checks import one_line
 from ioc_bench.ioc.registry import make_algorithm
+from ioc_bench.runner.protocol import Case, Record
 
 #: Default per-case time limit, seconds.
 DEFAULT_TIME_LIMIT = 1800.0
@@ -36,8 +36,8 @@ DEFAULT_TIME_LIMIT = 1800.0
 POLL_SECONDS = 0.5
 #: Executors by name: ``"module:Class"``, imported on first use.
 EXECUTORS: dict[str, str] = {
-    "local": "ioc_bench.bench.process_pool:ProcessPool",
-    "ray": "ioc_bench.bench.ray_executor:RayExecutor",
+    "local": "ioc_bench.runner.process_pool:ProcessPool",
+    "ray": "ioc_bench.runner.ray_executor:RayExecutor",
 }
 
 Finish = Callable[[Case, Record], None]

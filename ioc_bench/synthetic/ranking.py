@@ -4,7 +4,7 @@ and the paper's findings beside each algorithm's.
 The ranking's headline is the weight error over the paper's conditions, each condition
 counted once (a condition's cases are its weight sets times seeds; conditions with more
 cases would otherwise weigh more). Its interval resamples the seeds within each (condition,
-weight set), like a cell's (:mod:`ioc_bench.bench.statistics`): it covers repeating the study
+weight set), like a cell's (:mod:`ioc_bench.synthetic.statistics`): it covers repeating the study
 with these weight sets, not other weight sets or other conditions. A row that ran only some
 of the paper's conditions ranks after the rows that ran all of them.
 """
@@ -16,10 +16,11 @@ from collections import defaultdict
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.results import run_label
-from ioc_bench.bench.statistics import MIN_SEEDS_FOR_CI, stratified_mean_ci
-from ioc_bench.bench.statistics import finite_mean as _mean
+from ioc_bench.model.catalogue import DEFAULT_MODEL
+from ioc_bench.synthetic.case import CaseResult
+from ioc_bench.synthetic.results import run_label
+from ioc_bench.synthetic.statistics import MIN_SEEDS_FOR_CI, stratified_mean_ci
+from ioc_bench.synthetic.statistics import finite_mean as _mean
 
 #: The paper's findings, one per condition (Rebula et al. 2019, section III).
 PAPER_FINDINGS = {
@@ -140,7 +141,7 @@ def ranking_lines(rows: Sequence[Ranked], fmt) -> list[str]:
 
 def grid_lines(cells: Sequence, fmt) -> list[str]:
     """Mean weight error per (model, algorithm) row and condition column (``-``: not run);
-    ``cells`` are the leaderboard's :class:`~ioc_bench.bench.leaderboard.Cell` summaries."""
+    ``cells`` are the leaderboard's :class:`~ioc_bench.synthetic.board.Cell` summaries."""
     columns = list(dict.fromkeys(c.condition for c in cells))
     rows = list(dict.fromkeys((c.model, c.label) for c in cells))
     found = {(c.model, c.label, c.condition): c for c in cells}
@@ -160,7 +161,7 @@ def _grid_cell(cell, fmt) -> str:
     return fmt(cell.weight_error) + (f" ({cell.failures} failed)" if cell.failures else "")
 
 
-def paper_lines(cells: Sequence, fmt, model: str = "walker") -> list[str]:
+def paper_lines(cells: Sequence, fmt, model: str = DEFAULT_MODEL) -> list[str]:
     """Per paper condition, the paper's finding beside each algorithm's weight error on the
     paper's model (and how often the penalised weight came out largest); the hardest
     condition of each algorithm in bold."""

@@ -1,7 +1,8 @@
 """Benchmark suites as data: which weight sets, conditions and seeds make up a run.
 
-Add a suite by adding a :class:`Suite` to :data:`SUITES` (or :func:`register_suite`). The
-human track's suites (:mod:`ioc_bench.human.suites`) are in :data:`SUITES` too.
+Add a suite by adding a :class:`Suite` to :data:`SUITES` (or :func:`register_suite`); the
+track hands :data:`SUITES` to the runner (:mod:`ioc_bench.synthetic.track`), which finds
+every track's suites by name.
 """
 
 from __future__ import annotations
@@ -11,12 +12,11 @@ from dataclasses import dataclass
 from typing import Any
 
 from ioc_bench.bases import DEFAULT_BASIS, get_basis
-from ioc_bench.bench.case import DEFAULT_MODEL, CaseSpec
-from ioc_bench.bench.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
-from ioc_bench.human.suites import HUMAN_SUITES, HumanSuite
-from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET, get_model
+from ioc_bench.model.catalogue import COMPASS, DEFAULT_MODEL, ROLLING_FEET, get_model
+from ioc_bench.synthetic.case import CaseSpec
+from ioc_bench.synthetic.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.weights import WEIGHT_SETS, simplex_weight_sets, weight_sets
 
 
@@ -72,7 +72,7 @@ MULTI_TRIAL_CONDITIONS = ("multi-speed", "multi-speed-noise")
 ENERGETICS = get_basis("energetics")
 ROBUSTNESS_CONDITIONS = tuple(dict.fromkeys(c.name for axis in AXES for c in axis_conditions(axis)))
 
-SUITES: dict[str, Suite | HumanSuite] = {
+SUITES: dict[str, Suite] = {
     s.name: s
     for s in (
         Suite(
@@ -172,14 +172,6 @@ SUITES: dict[str, Suite | HumanSuite] = {
         ),
     )
 }
-
-
-SUITES.update(HUMAN_SUITES)  # the human track's suites run like any suite
-
-
-def is_human(suite: Suite | HumanSuite) -> bool:
-    """Whether ``suite`` is of the human track (its cases read a WBDS folder)."""
-    return isinstance(suite, HumanSuite)
 
 
 def register_suite(suite: Suite) -> Suite:

@@ -21,9 +21,9 @@ import sys
 import time
 from typing import Any
 
-from ioc_bench.bench.case import CaseResult
-from ioc_bench.bench.executor import Job, execute, failure_of
 from ioc_bench.checks import check_count
+from ioc_bench.runner.executor import Job, execute, failure_of
+from ioc_bench.runner.protocol import Record
 
 logger = logging.getLogger(__name__)
 
@@ -73,7 +73,7 @@ class RayExecutor:
         self._running[ref] = job
         return ref
 
-    def poll(self, timeout: float) -> list[tuple[Any, CaseResult]]:
+    def poll(self, timeout: float) -> list[tuple[Any, Record]]:
         if not self._running:
             time.sleep(timeout)
             return []

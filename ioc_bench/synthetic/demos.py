@@ -5,7 +5,7 @@ once and reused by every case and suite that needs it. The cache directory is
 :func:`~ioc_bench.cache.cache_dir`; entries are keyed by a hash of the inputs and of
 :data:`SOLVER_REVISION`, written atomically, and checked against that key when read.
 
-Logged to ``ioc_bench.bench.demos``: a demonstration solved (INFO, with its time), read
+Logged to ``ioc_bench.synthetic.demos``: a demonstration solved (INFO, with its time), read
 from the cache (DEBUG), a cache entry that is not the one asked for or cannot be written
 (WARNING).
 """
@@ -29,7 +29,7 @@ from ioc_bench.cache import cache_dir
 from ioc_bench.demo import Demonstration, DemonstrationFileError
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write
-from ioc_bench.model.catalogue import get_model
+from ioc_bench.model.catalogue import DEFAULT_MODEL, get_model
 from ioc_bench.optimize import DEFAULT_STARTS, optimize_gait
 from ioc_bench.paths import read_bytes
 from ioc_bench.task import Task
@@ -65,7 +65,7 @@ class DemoRequest:
     params: Any
     task: Task
     seed: int = DEMO_SEED
-    model: str = "walker"
+    model: str = DEFAULT_MODEL
     starts: int = DEFAULT_STARTS
     n_intervals: int = DEFAULT_INTERVALS
     features: tuple[str, ...] | None = None
@@ -84,7 +84,7 @@ class DemoRequest:
         }
         if self.task.step_length is not None:
             payload["step_length"] = self.task.step_length
-        if self.model != "walker":
+        if self.model != DEFAULT_MODEL:
             payload["model"] = self.model
         if self.features is not None:
             payload["features"] = list(self.features)
@@ -130,8 +130,9 @@ def demonstration(
         request = weights
     else:
         from ioc_bench.model.params import WalkerParams
+        from ioc_bench.model.walker import WALKER
 
-        request = DemoRequest(weights, params or WalkerParams(), task or Task(), seed, "walker", starts, n_intervals)
+        request = DemoRequest(weights, params or WalkerParams(), task or Task(), seed, WALKER.name, starts, n_intervals)
     path = cache_dir() / "demos" / f"{request.key}.npz"
     if use_cache and path.is_file():
         try:
