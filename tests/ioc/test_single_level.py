@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from ioc_bench import IOCProblem
-from ioc_bench.bench.observe import observe
 from ioc_bench.ioc import single_level
 from ioc_bench.ioc.bilevel import refine
 from ioc_bench.ioc.single_level import SingleLevelConfig
+from ioc_bench.synthetic.observe import observe
 
 FEATURES = ("hip", "knee", "dtau")
 
