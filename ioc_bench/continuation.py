@@ -16,12 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ioc_bench.checks import shown
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import model_features
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.optimize import optimize_gait
 from ioc_bench.task import Task
+from ioc_bench.validation import shown
 
 #: Largest change of speed (walker units, sqrt(g L)) per warm solve: about 0.06 m/s on a
 #: 0.9 m leg. The treadmill speeds of one subject are 0.03-0.05 apart.

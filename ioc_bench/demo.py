@@ -19,7 +19,6 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.checks import MAX_INT, json_fields, load_json, shown
 from ioc_bench.features import COST_FEATURES, model_features
 from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import DEFAULT_MODEL, get_model
@@ -32,6 +31,7 @@ from ioc_bench.trajopt.gait_figures import GaitFigures
 from ioc_bench.trajopt.local_minimum import LocalMinimumCheck
 from ioc_bench.trajopt.multistart import MultiStartSummary, StartRecord
 from ioc_bench.trajopt.solution import SolverReport
+from ioc_bench.validation import MAX_INT, json_fields, load_json, shown
 
 #: Version of the file layout; bump on any incompatible change.
 SCHEMA_VERSION = 2

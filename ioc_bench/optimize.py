@@ -13,7 +13,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from ioc_bench.checks import check_count, check_seed, shown
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import evaluate, model_features
 from ioc_bench.model.gait_model import GaitModel, GaitParams
@@ -26,6 +25,7 @@ from ioc_bench.trajopt.local_minimum import verify_local_minimum
 from ioc_bench.trajopt.multistart import pick_best, solve_starts
 from ioc_bench.trajopt.solution import SolveResult, StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS, StepRules
+from ioc_bench.validation import check_count, check_seed, shown
 from ioc_bench.weights import WeightSpec, parse_weights
 
 #: The paper's number of starts.

@@ -21,8 +21,8 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.checks import shown
 from ioc_bench.fileio import TEMP_SUFFIX
+from ioc_bench.validation import shown
 
 #: Longest file name (bytes) of the usual Linux file systems.
 MAX_NAME_BYTES = 255

@@ -27,7 +27,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.checks import shown
+from ioc_bench.validation import shown
 
 #: The packages whose versions a record carries, beside Python's and the platform's.
 PACKAGES = ("ioc-bench", "casadi", "numpy", "scipy", "mujoco", "gymnasium")

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ioc_bench.checks import shown
+from ioc_bench.validation import shown
 
 #: Nominal average forward speed (about 0.8 m/s for a 0.9 m leg).
 NOMINAL_SPEED = 0.27

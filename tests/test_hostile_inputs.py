@@ -31,7 +31,6 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from ioc_bench.checks import MAX_JSON_DEPTH, load_json
 from ioc_bench.cli import main
 from ioc_bench.paths import (
     PathError,
@@ -46,6 +45,7 @@ from ioc_bench.synthetic.case import CaseSpec
 from ioc_bench.synthetic.conditions import CONDITIONS
 from ioc_bench.synthetic.results import parse_result
 from ioc_bench.task import Task
+from ioc_bench.validation import MAX_JSON_DEPTH, load_json
 from ioc_bench.weights import WEIGHT_SETS
 
 FIXTURES = settings(suppress_health_check=[HealthCheck.function_scoped_fixture], max_examples=40)

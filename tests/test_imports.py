@@ -1,6 +1,6 @@
 """The import graph of ``ioc_bench`` and ``envs``: no cycles, and no arrow from a lower layer up.
 
-The layers, lowest first: the base utilities (``paths``, ``fileio``, ``cache``, ``checks``,
+The layers, lowest first: the base utilities (``paths``, ``fileio``, ``cache``, ``validation``,
 ``processes``, ``plotting``); ``model`` < ``features`` < ``trajopt`` < ``ioc``; the tracks
 (``synthetic``, ``human``, with ``bench``, the old name of the synthetic track's ``observe``)
 and ``envs`` beside them; the list of built-in tracks (``ioc_bench.tracks``, names only);
@@ -32,11 +32,11 @@ PACKAGES = ("ioc_bench", "envs")
 BASE = (
     "ioc_bench._version",
     "ioc_bench.cache",
-    "ioc_bench.checks",
     "ioc_bench.fileio",
     "ioc_bench.paths",
     "ioc_bench.plotting",
     "ioc_bench.processes",
+    "ioc_bench.validation",
 )
 #: The tracks (and the MuJoCo environment beside them).
 TRACKS = ("ioc_bench.synthetic", "ioc_bench.human", "ioc_bench.bench", "envs")

@@ -17,10 +17,10 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, NoReturn
 
-from ioc_bench.checks import load_json, one_line
 from ioc_bench.fileio import to_jsonable
 from ioc_bench.model.catalogue import DEFAULT_MODEL
 from ioc_bench.paths import check_path_text
+from ioc_bench.validation import load_json, one_line
 
 
 class UsageError(Exception):

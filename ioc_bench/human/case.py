@@ -52,7 +52,6 @@ import numpy as np
 
 from ioc_bench.bases import DEFAULT_BASIS, get_basis
 from ioc_bench.cache import cache_dir
-from ioc_bench.checks import check_count, check_seed
 from ioc_bench.fileio import atomic_write_json
 from ioc_bench.human import baselines
 from ioc_bench.human.models import HUMAN_MODELS as HUMAN_MODELS  # the case's models, named here too
@@ -89,6 +88,7 @@ from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.paths import read_bytes
 from ioc_bench.provenance import provenance
 from ioc_bench.task import Task
+from ioc_bench.validation import check_count, check_seed
 from ioc_bench.weights import parse_weights
 
 logger = logging.getLogger(__name__)
@@ -612,7 +612,7 @@ class ReferenceStep:
 
 
 def _read_reference(path: Path, key: str) -> SolvedStep | None:
-    from ioc_bench.checks import load_json
+    from ioc_bench.validation import load_json
 
     if not path.is_file():
         return None

@@ -21,9 +21,9 @@ import numpy as np
 
 from ioc_bench._version import __version__
 from ioc_bench.bases import DEFAULT_BASIS
-from ioc_bench.checks import json_fields, shown
 from ioc_bench.human.scoring import SKILL_TOL, beats, skill_score
 from ioc_bench.provenance import check_provenance
+from ioc_bench.validation import json_fields, shown
 
 #: The track's name, as result files record it.
 TRACK = "human"

@@ -41,13 +41,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from ioc_bench.checks import check_count
 from ioc_bench.features import PAPER_GRAVITY
 from ioc_bench.human.anthropometry import SubjectBody, subject_body
 from ioc_bench.human.wbds import TableRow, WbdsTrial
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.task import Task
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS
+from ioc_bench.validation import check_count
 
 #: The walker's leg segments, in the order of a human step's angle arrays.
 LEG_SEGMENTS: tuple[str, ...] = ("thigh_stance", "shank_stance", "thigh_swing", "shank_swing")

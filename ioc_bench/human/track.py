@@ -8,13 +8,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ioc_bench.checks import shown
 from ioc_bench.fileio import to_jsonable
 from ioc_bench.human.board import SECTION
 from ioc_bench.human.case import HumanCaseSpec, parse_record
 from ioc_bench.human.record import TRACK as NAME
 from ioc_bench.human.suites import HUMAN_SUITES
 from ioc_bench.runner.protocol import Track
+from ioc_bench.validation import shown
 
 
 def recorded_case(record: Any, case_config: Mapping[str, Any] | None) -> HumanCaseSpec:

@@ -40,7 +40,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
-from ioc_bench.checks import check_non_negative
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord, WeightRegion
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, fit_kkt_trials, interval
 from ioc_bench.ioc.misfit import residual_test
@@ -49,6 +48,7 @@ from ioc_bench.ioc.oracle import OracleSolution
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
 from ioc_bench.ioc.starts import further_starts, unit
+from ioc_bench.validation import check_non_negative
 
 #: Tracking error given to the search for a candidate whose forward solve failed (it backtracks).
 FAILED_SOLVE_ERROR = 1e3

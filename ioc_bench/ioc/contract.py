@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.checks import shown
 from ioc_bench.ioc.algorithm import IOCResult, IterationRecord, ModelFit, WeightRegion
+from ioc_bench.validation import shown
 from ioc_bench.weights import weight_fault
 
 #: Longest status text kept (a status is a word or ``failed: <reason>``).

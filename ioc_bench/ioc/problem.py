@@ -32,7 +32,6 @@ from typing import Protocol
 import numpy as np
 
 from ioc_bench.bases import forward_basis
-from ioc_bench.checks import check_non_negative
 from ioc_bench.features import check_model_names, evaluate
 from ioc_bench.ioc.forward_view import ForwardView
 from ioc_bench.ioc.oracle import OracleSolution, OracleStats
@@ -48,6 +47,7 @@ from ioc_bench.trajopt.initial_guess import multistart_guesses
 from ioc_bench.trajopt.solution import FEASIBILITY_TOL, SolveResult, SolverReport, StartPoint
 from ioc_bench.trajopt.step_problem import OBJECTIVE_SCALE
 from ioc_bench.trajopt.tracking import signal_spans, tracking_error, tracking_terms
+from ioc_bench.validation import check_non_negative
 from ioc_bench.weights import full_weights, normalize
 
 __all__ = ["IOCProblem", "MultiTrialProblem", "OracleSolution", "OracleStats"]

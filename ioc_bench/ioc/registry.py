@@ -24,9 +24,9 @@ import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from ioc_bench.checks import TypeMismatch, coerce, shown
 from ioc_bench.fileio import to_jsonable
 from ioc_bench.ioc.algorithm import FAMILIES, IOCAlgorithm
+from ioc_bench.validation import TypeMismatch, coerce, shown
 
 ENTRY_POINT_GROUP = "ioc_bench.algorithms"
 #: What an algorithm name may look like (it names a folder of result files).

@@ -48,7 +48,6 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from ioc_bench.checks import check_non_negative
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult, IterationRecord
 from ioc_bench.ioc.bilevel import refine
 from ioc_bench.ioc.inverse_kkt import InverseKKTConfig, fit_kkt_trials
@@ -63,6 +62,7 @@ from ioc_bench.trajopt import ipopt
 from ioc_bench.trajopt.forward_problem import get_forward_problem
 from ioc_bench.trajopt.solution import StartPoint
 from ioc_bench.trajopt.step_problem import DEFAULT_INTERVALS, StepRules, SymbolicStep
+from ioc_bench.validation import check_non_negative
 
 #: The start is a KKT point: keep IPOPT there (no barrier push away from the bounds).
 _OPTIONS = ipopt.options(ipopt.MUMPS, ipopt.WARM_START, tol=1e-6, constr_viol_tol=1e-6)

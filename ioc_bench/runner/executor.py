@@ -26,9 +26,9 @@ from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-from ioc_bench.checks import one_line
 from ioc_bench.ioc.registry import make_algorithm
 from ioc_bench.runner.protocol import Case, Record
+from ioc_bench.validation import one_line
 
 #: Default per-case time limit, seconds.
 DEFAULT_TIME_LIMIT = 1800.0

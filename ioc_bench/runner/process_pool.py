@@ -24,12 +24,12 @@ from multiprocessing.connection import Connection, wait
 
 from threadpoolctl import threadpool_limits
 
-from ioc_bench.checks import check_count
 from ioc_bench.processes import die_with_parent
 from ioc_bench.runner.executor import Job, execute, failure_of
 from ioc_bench.runner.protocol import Record
 from ioc_bench.runner.results import parse_any
 from ioc_bench.trajopt.forward_problem import get_forward_problem
+from ioc_bench.validation import check_count
 
 logger = logging.getLogger(__name__)
 

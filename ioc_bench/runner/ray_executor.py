@@ -21,9 +21,9 @@ import sys
 import time
 from typing import Any
 
-from ioc_bench.checks import check_count
 from ioc_bench.runner.executor import Job, execute, failure_of
 from ioc_bench.runner.protocol import Record
+from ioc_bench.validation import check_count
 
 logger = logging.getLogger(__name__)
 

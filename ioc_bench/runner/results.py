@@ -30,13 +30,13 @@ from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ioc_bench.checks import load_json, one_line, shown
 from ioc_bench.fileio import atomic_write_json, remove_temporaries, to_jsonable
 from ioc_bench.ioc.registry import NAME_PATTERN
 from ioc_bench.paths import PathError, check_input_dir, check_inside, check_path_text, read_bytes
 from ioc_bench.processes import hold_across_fork
 from ioc_bench.runner.protocol import Case, Record
 from ioc_bench.runner.tracks import track_of, track_of_record, tracks
+from ioc_bench.validation import load_json, one_line, shown
 
 #: File name of a case result inside its algorithm's folder (condition names may hold a
 #: sign, as the robustness suite's ``mass+20``; human cases join speeds and subjects by ``+``).

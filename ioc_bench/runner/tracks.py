@@ -15,9 +15,9 @@ import importlib.metadata
 import warnings
 from typing import Any
 
-from ioc_bench.checks import shown
 from ioc_bench.runner.protocol import Record, Suite, Track
 from ioc_bench.tracks import BUILTIN_TRACKS
+from ioc_bench.validation import shown
 
 ENTRY_POINT_GROUP = "ioc_bench.tracks"
 

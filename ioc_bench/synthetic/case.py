@@ -28,7 +28,6 @@ import numpy as np
 from ioc_bench._version import __version__
 from ioc_bench.bases import DEFAULT_BASIS, forward_basis, get_basis, parse_basis_weights
 from ioc_bench.cache import check_cache
-from ioc_bench.checks import check_seed
 from ioc_bench.demo import Demonstration
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
 from ioc_bench.ioc.fit import Fit, fit
@@ -51,6 +50,7 @@ from ioc_bench.synthetic.demos import DemoRequest, ReferenceCache, demonstration
 from ioc_bench.synthetic.observe import observe
 from ioc_bench.synthetic.scoring import unit, weight_error
 from ioc_bench.synthetic.transfer import transfer, transfer_task
+from ioc_bench.validation import check_seed
 from ioc_bench.weights import WEIGHT_SETS, WeightSpec, full_weights, parse_weights
 
 #: Stream of the observation-noise generator (kept apart from the algorithm's streams).

@@ -17,7 +17,6 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.bases import DEFAULT_BASIS
-from ioc_bench.checks import check_seed, json_fields, shown
 from ioc_bench.features import FEATURES
 from ioc_bench.fileio import to_jsonable
 from ioc_bench.ioc.algorithm import ModelFit, WeightRegion
@@ -25,6 +24,7 @@ from ioc_bench.ioc.contract import MAX_STATUS, check_model_fit, check_region
 from ioc_bench.ioc.registry import check_algorithm_name, config_overrides, make_algorithm
 from ioc_bench.provenance import check_provenance
 from ioc_bench.synthetic.case import CaseResult, CaseSpec, config_digest
+from ioc_bench.validation import check_seed, json_fields, shown
 
 #: Fields a result file may carry besides :class:`CaseResult`'s (the runner's
 #: :func:`~ioc_bench.runner.results.write_result` adds them).

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 from typing import Any
 
 from ioc_bench.bases import DEFAULT_BASIS, get_basis
-from ioc_bench.checks import check_seed
 from ioc_bench.features import cost_features
 from ioc_bench.model.catalogue import COMPASS, DEFAULT_MODEL, ROLLING_FEET, get_model
 from ioc_bench.synthetic.case import CaseSpec
 from ioc_bench.synthetic.conditions import AXES, axis_conditions, get_condition, lookup, register
+from ioc_bench.validation import check_seed
 from ioc_bench.weights import WEIGHT_SETS, simplex_weight_sets, weight_sets
 
 

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from ioc_bench.checks import (
+from ioc_bench.validation import (
     MAX_MESSAGE,
     MIN_WORD,
     TypeMismatch,
