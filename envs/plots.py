@@ -10,7 +10,7 @@ import numpy as np
 from envs.checks.closed_loop import ClosedLoopResult
 from envs.checks.open_loop import OpenLoopResult
 from envs.coordinates import actuated_dofs
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import ACTUATORS
@@ -46,7 +46,7 @@ def plot_comparison(
     """Joint angles and torques: demonstration vs MuJoCo open loop vs every closed-loop step."""
     from ioc_bench.plotting import plt, save_figure
 
-    ref = Reference.of(demo)
+    ref = DemoReference.of(demo)
     fig, axes = plt.subplots(3, 2, figsize=(10, 9))
     dofs = actuated_dofs("a")
     demo_q = np.column_stack([ref.qpos[:, 2], ref.qpos[:, dofs]])

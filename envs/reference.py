@@ -26,8 +26,9 @@ PHASE_SAMPLES_PER_KNOT = 20
 
 
 @dataclass(frozen=True, eq=False)
-class Reference:
-    """A demonstration in the form the tracking policy and the replays use.
+class DemoReference:
+    """A demonstration in the form the tracking policy and the replays use: the reference
+    they track or check against (:meth:`of` builds it).
 
     Attributes:
         linkage: the demonstration's linkage.
@@ -50,7 +51,7 @@ class Reference:
     qacc: np.ndarray
 
     @classmethod
-    def of(cls, demo: Demonstration) -> Reference:
+    def of(cls, demo: Demonstration) -> DemoReference:
         link = demo_linkage(demo)
         tr = demo.trajectory
         jmap = np.zeros((len(ACTUATORS), len(link.segments)))

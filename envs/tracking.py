@@ -41,7 +41,7 @@ import numpy as np
 
 from envs.coordinates import actuated_dofs, check_stance, motor_controls, other_leg
 from envs.observation import ObservedState, split_observation
-from envs.reference import Reference, hip_over_foot
+from envs.reference import DemoReference, hip_over_foot
 from ioc_bench.demo import Demonstration
 
 
@@ -118,7 +118,7 @@ class TrackingPolicy:
             demonstration = Demonstration.load(demonstration)
         self.demonstration = demonstration
         self.gains = gains or PDGains()
-        self.reference = Reference.of(demonstration)
+        self.reference = DemoReference.of(demonstration)
         self._path_t, self._path_x, self._path_xd = self.reference.phase_path()
         self._max_torque = float(demonstration.params.max_torque)
 

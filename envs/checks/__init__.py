@@ -10,7 +10,7 @@
    through ``env.step`` for several steps (reported: walking is unstable, and a gait that
    falls or needs much feedback is unstable, not physically wrong).
 
-The demonstration as the checks read it is :class:`envs.reference.Reference`; the figure
+The demonstration as the checks read it is :class:`envs.reference.DemoReference`; the figure
 and GIF are in :mod:`envs.plots`.
 """
 

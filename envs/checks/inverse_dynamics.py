@@ -22,7 +22,7 @@ import numpy as np
 
 from envs.coordinates import generalized_torques
 from envs.physics import MujocoParams, Physics, check_physics, foot_contact_point, foot_roll
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.mjcf import JOINTS
@@ -89,7 +89,7 @@ def inverse_dynamics_check(
     p = params or demo.params
     physics = check_physics(physics, p)
     model, data = physics.model, physics.data
-    ref, tr = Reference.of(demo), demo.trajectory
+    ref, tr = DemoReference.of(demo), demo.trajectory
     shank, roll = int(model.site_bodyid[model.site("foot_a").id]), foot_roll(p)
     ground = ref.linkage.pin_index(get_model(demo.model).roles.contact_pin)
     knees = [ACTUATORS.index(j.name) for j in ref.linkage.locked]

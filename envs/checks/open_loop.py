@@ -24,7 +24,7 @@ import numpy as np
 
 from envs.coordinates import motor_controls
 from envs.physics import MujocoParams
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, ContactSettings
 
@@ -91,7 +91,7 @@ def open_loop_replay(
     """
     from envs.planar_walker import PlanarWalkerEnv
 
-    ref = Reference.of(demo)
+    ref = DemoReference.of(demo)
     settings = knot_aligned(contact, ref.dt)
     per_knot = round(ref.dt / settings.timestep)
     env = PlanarWalkerEnv(

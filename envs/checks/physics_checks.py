@@ -39,7 +39,7 @@ import numpy as np
 
 from envs.checks.inverse_dynamics import ID_TOLERANCE, InverseDynamicsResult
 from envs.physics import MujocoParams, Physics, check_physics, foot_contact_point, foot_roll
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.mjcf import JOINTS, LEGS
 from ioc_bench.trajopt.collocation import defects
@@ -124,7 +124,7 @@ def time_consistency_check(demo: Demonstration, tolerance: float = TIMING_TOL) -
     change of that state over one interval. A motion replayed slower or faster than its
     velocities say (a stretched ``dt``) fails here, not in the knot-wise inverse dynamics.
     """
-    ref = Reference.of(demo)
+    ref = DemoReference.of(demo)
     y, f, h = ref.theta, ref.dtheta, 2.0 * ref.dt
     worst, knot, scale = 0.0, 0, 0.0
     for k in range(0, len(ref.times) - 1, 2):
@@ -156,7 +156,7 @@ def stance_ground_forces(
     """
     physics = check_physics(physics, params or demo.params)
     model, data = physics.model, physics.data
-    ref = Reference.of(demo)
+    ref = DemoReference.of(demo)
     rows = [JOINTS.index("rootx"), JOINTS.index("rootz")]
     forces = np.zeros((len(ref.times), 2))
     for k in range(len(ref.times)):
@@ -224,7 +224,7 @@ def penetration_check(
     p = params or demo.params
     physics = check_physics(physics, p)
     model, data = physics.model, physics.data
-    ref, roll = Reference.of(demo), foot_roll(p)
+    ref, roll = DemoReference.of(demo), foot_roll(p)
     heights = np.zeros(len(ref.times))
     for k in range(len(ref.times)):
         data.qpos[:] = ref.qpos[k]
@@ -251,7 +251,7 @@ def knee_range_check(
     holds it; beyond ``knee_max_flexion`` the knee is folded past its range.
     """
     p = params or demo.params
-    ref = Reference.of(demo)
+    ref = DemoReference.of(demo)
     names = [f"knee_{leg}" for leg in LEGS]
     flexion = ref.qpos[:, [JOINTS.index(n) for n in names]]
     beyond = np.maximum(-flexion, flexion - p.knee_max_flexion)

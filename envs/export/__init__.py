@@ -10,6 +10,6 @@
   ``export`` extra).
 
 The MuJoCo states come from the environment's own mapping of a demonstration
-(:func:`envs.coordinates.to_generalized`, as :class:`envs.reference.Reference` uses it),
+(:func:`envs.coordinates.to_generalized`, as :class:`envs.reference.DemoReference` uses it),
 interpolated as the optimizer's Hermite-Simpson collocation assumes the motion between knots.
 """

@@ -10,7 +10,7 @@ dimensionless units. This module makes of it what joint-trajectory tools expect:
   the arc's anchor): leg ``b`` in stance, ending at leg ``a``'s next heel strike. Leg ``a``
   keeps its identity throughout (the MuJoCo model's legs are physical).
 - **MuJoCo coordinates** of every knot by the environment's own mapping
-  (:func:`envs.coordinates.to_generalized`, which :class:`envs.reference.Reference` and the
+  (:func:`envs.coordinates.to_generalized`, which :class:`envs.reference.DemoReference` and the
   environment's reset use): ``qpos = [hip x, hip z, torso angle, hip_a, knee_a, hip_b,
   knee_b]`` (``ioc_bench.model.mjcf.JOINTS``), the root being the hip; ``qvel`` its
   rates.

@@ -26,7 +26,7 @@ from functools import partial
 import numpy as np
 
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
-from ioc_bench.ioc.cutting_plane import AnalyticCentreStep, CuttingPlane, ProximalForward, Reference, last_output
+from ioc_bench.ioc.cutting_plane import AnalyticCentreStep, CuttingPlane, ProximalForward, ReferenceChoice, last_output
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
 
@@ -81,7 +81,7 @@ class AnalyticCenter(IOCAlgorithm):
     def fit(self, problem: IOCProblem) -> IOCResult:
         cfg: AnalyticCenterConfig = self.config
         return CuttingPlane(
-            reference=Reference("projected"),
+            reference=ReferenceChoice("projected"),
             weight_step=partial(_centre_step, cfg.lower),
             forward=ProximalForward(cfg.proximal),
             output=last_output,

@@ -5,7 +5,7 @@ suboptimal samples, then repeatedly a weight step (weights under which every sam
 more than the reference) and a forward step (the optimal step for those weights, which
 becomes a new sample: a cut). What varies between methods is each strategy:
 
-- :class:`Reference`: what the candidates are compared with (x* as observed, or its
+- :class:`ReferenceChoice`: what the candidates are compared with (x* as observed, or its
   feasible projection);
 - a weight step (:class:`LogBarrierStep`, :class:`AnalyticCentreStep`);
 - a forward step (:class:`PlainForward`, :class:`ProximalForward`);
@@ -47,8 +47,10 @@ RELAX_FACTOR = 1.5
 
 
 @dataclass(frozen=True)
-class Reference:
-    """What candidates are compared with, and where forward steps start.
+class ReferenceChoice:
+    """Which step candidates are compared with, and where forward steps start. Called on a
+    problem, it gives the chosen reference step and the observation's projection (``None``
+    when the projection failed).
 
     Attributes:
         use: ``"observed"``: x* with its features as measured (the paper); ``"projected"``:
@@ -187,7 +189,7 @@ class CuttingPlane:
         stop_without_cut: stop when a candidate's step adds no cut.
     """
 
-    reference: Reference
+    reference: ReferenceChoice
     weight_step: Any
     forward: Any
     output: Any

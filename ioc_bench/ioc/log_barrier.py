@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ioc_bench.ioc.algorithm import IOCAlgorithm, IOCResult
-from ioc_bench.ioc.cutting_plane import CuttingPlane, LogBarrierStep, PlainForward, Reference, min_error_output
+from ioc_bench.ioc.cutting_plane import CuttingPlane, LogBarrierStep, PlainForward, ReferenceChoice, min_error_output
 from ioc_bench.ioc.problem import IOCProblem
 from ioc_bench.ioc.registry import register_algorithm
 
@@ -80,7 +80,7 @@ class LogBarrier(IOCAlgorithm):
     def fit(self, problem: IOCProblem) -> IOCResult:
         cfg: LogBarrierConfig = self.config
         return CuttingPlane(
-            reference=Reference("observed"),
+            reference=ReferenceChoice("observed"),
             weight_step=LogBarrierStep(cfg.offset, cfg.lower, cfg.upper),
             forward=PlainForward(cfg.forward_start, cfg.forward_starts),
             output=min_error_output,

@@ -15,7 +15,7 @@ from envs.checks import (
 )
 from envs.checks.closed_loop import CHECK_CONTROL_DT
 from envs.plots import plot_comparison, write_animation
-from envs.reference import Reference
+from envs.reference import DemoReference
 from envs.tracking import PDGains
 from ioc_bench import Demonstration, WalkerParams
 
@@ -39,7 +39,7 @@ def test_inverse_dynamics_tells_a_wrong_model(heavy_legs_demo: Demonstration):
 
 def test_open_loop_starts_on_the_demonstration_and_reports_its_drift(nominal_demo, nominal_open_loop):
     ol = nominal_open_loop
-    ref = Reference.of(nominal_demo)
+    ref = DemoReference.of(nominal_demo)
     assert ol.qpos.shape == ol.qpos_ref.shape == (nominal_demo.trajectory.n_knots, 7)
     assert ol.position_error[0] == pytest.approx(0.0, abs=1e-12)
     assert ol.qpos_ref == pytest.approx(ref.qpos)

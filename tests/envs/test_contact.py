@@ -9,7 +9,7 @@ from envs.coordinates import motor_controls
 from envs.heel_strikes import LANDING_FRACTION, StanceTracker, landing_distance, step_length
 from envs.physics import STANCE_CONDIM, SWING_CONDIM, foot_geoms
 from envs.planar_walker import PlanarWalkerEnv
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench import Demonstration
 from ioc_bench.model.walker import WALKER_ROLES, walker_linkage
 
@@ -38,7 +38,7 @@ def test_a_mid_swing_graze_is_frictionless_and_no_heel_strike(nominal_demo: Demo
     assert z[graze] < 1e-6 and 0 < graze < nominal_demo.trajectory.n_knots - 1
     env = PlanarWalkerEnv(demonstration=nominal_demo, frame_skip=1)
     env.reset()
-    ref, tr = Reference.of(nominal_demo), nominal_demo.trajectory
+    ref, tr = DemoReference.of(nominal_demo), nominal_demo.trajectory
     # From the demonstration's state a knot before the graze, the swing foot in the air.
     env.set_state(ref.qpos[graze - 1], ref.qvel[graze - 1])
     touched = False

@@ -19,7 +19,7 @@ import pytest
 from envs.export.joints import MAX_RATE, SIUnits, check_rate, stride_knots, stride_series
 from envs.export.opensim import COORDINATES
 from envs.export.rollouts import INFO_KEYS, dataset_id
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench import Demonstration
 from ioc_bench.cli import main
 from ioc_bench.features import COST_FEATURES, PAPER_GRAVITY, TIME_UNIT
@@ -70,9 +70,9 @@ def _save(demo: Demonstration, folder: Path, name: str = "nominal.npz") -> Path:
 
 def _demo_angles(demo: Demonstration, t: float) -> dict[str, float]:
     """The demonstration's own angles at stride time ``t`` (model units), in OpenSim's names and
-    signs: by the collocation's interpolation of its segment angles (``Reference``), leg a the
+    signs: by the collocation's interpolation of its segment angles (``DemoReference``), leg a the
     right, in stance in the first step and swinging in the second."""
-    ref = Reference.of(demo)
+    ref = DemoReference.of(demo)
     step = 1 if t >= ref.duration else 0
     local = t - step * ref.duration
     joints, _ = ref.joints(local)
@@ -102,7 +102,7 @@ def test_sto_round_trip_matches_the_demonstration_over_a_full_stride(nominal_dem
     np.testing.assert_allclose(np.diff(col["time"]), 0.01, atol=1e-9)
     assert col["time"][0] == 0 and 2 * step_s - 0.01 < col["time"][-1] <= 2 * step_s
     # every angle is the demonstration's at that time (the collocation's interpolation), both steps
-    ref = Reference.of(nominal_demo)
+    ref = DemoReference.of(nominal_demo)
     for row, t in enumerate(col["time"]):
         for label, value in _demo_angles(nominal_demo, t / TIME_UNIT).items():
             assert col[label][row] == pytest.approx(value, abs=STO_TOLERANCE), (label, t)
@@ -140,7 +140,7 @@ def test_sto_in_degrees_for_another_leg_length(nominal_demo, tmp_path):
 
 def test_the_stride_is_the_step_and_its_mirror_image(nominal_demo):
     knots = stride_knots(nominal_demo)
-    ref = Reference.of(nominal_demo)
+    ref = DemoReference.of(nominal_demo)
     np.testing.assert_array_equal(knots.qpos[0], ref.qpos)  # the first step is the env's own mapping
     a, b = (JOINTS.index(f"hip_{leg}") for leg in LEGS)
     np.testing.assert_allclose(knots.qpos[1][:, a], ref.qpos[:, b])  # leg a does in step 2 what b did in step 1
@@ -188,7 +188,7 @@ def test_qpos_export_holds_named_si_arrays_at_the_rate(nominal_demo, tmp_path):
     meta = json.loads(str(arrays["metadata"]))
     assert meta["units"] == {"length": "m", "angle": "rad", "time": "s", "leg_length_m": 1.0, "gravity": 9.81}
     assert meta["interpolation"] == "cubic-hermite" and meta["demonstration"] == "nominal.npz"
-    ref = Reference.of(nominal_demo)
+    ref = DemoReference.of(nominal_demo)
     np.testing.assert_allclose(qpos[0], ref.qpos[0], atol=1e-12)  # knot 0, leg length 1 m
     units = SIUnits.of(nominal_demo.params)
     np.testing.assert_allclose(qvel[0], units.velocities(ref.qvel[0]), atol=1e-12)
@@ -249,7 +249,7 @@ def test_minari_dataset_loads_and_replays_the_demonstration(nominal_demo, minari
     n = len(ep.actions)
     assert ep.observations.shape == (n + 1, 17) and ep.actions.shape == (n, 4)
     assert n == 1000 and ep.truncations[-1] and not ep.terminations.any()  # Gymnasium's time limit, no fall
-    ref = Reference.of(nominal_demo)
+    ref = DemoReference.of(nominal_demo)
     np.testing.assert_array_equal(ep.observations[0], np.concatenate([ref.qpos[0][1:], ref.qvel[0], np.zeros(4)]))
     policy = TrackingPolicy(nominal_demo)
     errors = []

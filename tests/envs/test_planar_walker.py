@@ -81,11 +81,11 @@ def test_cost_features_accumulate_like_the_optimizers(nominal_demo: Demonstratio
 
 
 def test_reset_from_a_demonstration_is_its_initial_state(nominal_demo: Demonstration, tmp_path):
-    from envs.reference import Reference
+    from envs.reference import DemoReference
 
     env = PlanarWalkerEnv(exclude_current_positions_from_observation=False)
     obs, info = env.reset(seed=3, options={"demonstration": nominal_demo})
-    ref = Reference.of(nominal_demo)
+    ref = DemoReference.of(nominal_demo)
     assert obs == pytest.approx(np.concatenate([ref.qpos[0], ref.qvel[0], np.zeros(4)]), abs=1e-12)
     assert info["x_position"] == pytest.approx(ref.qpos[0, 0])
     assert info["stance_leg"] == "a" and info["heel_strikes"] == 0

@@ -20,7 +20,7 @@ from envs.checks import (
 )
 from envs.physics import build_model, foot_contact_point, foot_roll
 from envs.planar_walker import PlanarWalkerEnv
-from envs.reference import Reference
+from envs.reference import DemoReference
 from ioc_bench import Demonstration
 from ioc_bench.model.feet import ROLLING_FEET, FootedParams
 
@@ -55,7 +55,7 @@ def test_the_rolling_feet_demonstration_passes_every_physical_check(checks):
 
 def test_the_ground_force_is_the_optimizers_pin_force(demo: Demonstration):
     """Newton's law for the whole body in MuJoCo gives the optimizer's ground pin force."""
-    link = Reference.of(demo).linkage
+    link = DemoReference.of(demo).linkage
     pin = demo.trajectory.pin_forces[:, link.pin_index(ROLLING_FEET.roles.contact_pin)]
     assert stance_ground_forces(demo) == pytest.approx(pin, abs=1e-9)
 
@@ -85,7 +85,7 @@ def test_the_contact_point_and_foot_radius_come_from_the_linkage(demo: Demonstra
     assert radius == demo.params.roll_radius
     env = PlanarWalkerEnv(params=demo.params, demonstration=demo)
     env.reset()
-    link, q0 = Reference.of(demo).linkage, demo.trajectory.q[0]
+    link, q0 = DemoReference.of(demo).linkage, demo.trajectory.q[0]
     theta = q0[link.index("shank_stance"), 2]
     contact = foot_contact_point(env.model, env.data, "a", radius)
     assert contact == pytest.approx([radius * theta, 0.0, 0.0], abs=1e-12)

@@ -9,7 +9,7 @@ import pytest
 from envs.coordinates import motor_controls
 from envs.heel_strikes import StanceTracker
 from envs.planar_walker import PlanarWalkerEnv
-from envs.reference import Reference
+from envs.reference import DemoReference
 from envs.tracking import PDGains, TrackingPolicy
 from ioc_bench import Demonstration
 
@@ -42,7 +42,7 @@ def test_policy_walks_ten_steps_in_the_default_environment(nominal_demo: Demonst
     env = PlanarWalkerEnv(demonstration=nominal_demo)
     strikes, info = _walk(env, TrackingPolicy(nominal_demo), steps=10)
     assert np.mean(np.diff([0.0, *strikes])) == pytest.approx(nominal_demo.trajectory.duration, rel=0.05)
-    speed = (info["x_position"] - Reference.of(nominal_demo).qpos[0, 0]) / strikes[-1]
+    speed = (info["x_position"] - DemoReference.of(nominal_demo).qpos[0, 0]) / strikes[-1]
     assert speed == pytest.approx(nominal_demo.task.speed, rel=0.05)
     assert info["stance_leg"] == "a"  # ten swaps: back on leg a
 

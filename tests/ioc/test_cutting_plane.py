@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ioc_bench.ioc.cutting_plane import CuttingPlane, LogBarrierStep, PlainForward, Reference, min_error_output
+from ioc_bench.ioc.cutting_plane import CuttingPlane, LogBarrierStep, PlainForward, ReferenceChoice, min_error_output
 
 PHI_REF = np.array([1.0, 2.0, 3.0])
 
@@ -48,7 +48,7 @@ class StubProblem:
 
 def _loop(**kw):
     base = dict(
-        reference=Reference("observed"),
+        reference=ReferenceChoice("observed"),
         weight_step=LogBarrierStep(),
         forward=PlainForward("warm", 1),
         output=min_error_output,
