@@ -25,9 +25,10 @@ handled as a mathematical program with complementarity constraints:
   products' sum, times a rising weight, in the objective (an exact penalty);
 - **started where model and data agree**: at a KKT point of the forward problem, the optimum
   (with its duals) of the better, by tracking error, of the uniform and the inverse-KKT
-  weights, each solved warm from the feasible reference. The projection of a perturbed
-  observation satisfies the optimality conditions for no weights; a forward optimum does,
-  for its own.
+  weights, each solved warm from the feasible reference, and on an observation without
+  torques also ``bilevel``'s fit from those starts (:attr:`SingleLevelConfig.bilevel_start`).
+  The projection of a perturbed observation satisfies the optimality conditions for no
+  weights; a forward optimum does, for its own.
 
 The answer is then checked as a forward optimum: one forward solve for the fitted weights,
 warm from the NLP's primal-dual point. Its step gives the tracking error, the 95 % region
