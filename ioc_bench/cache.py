@@ -8,10 +8,17 @@ checked against the key it is filed under when it is read back.
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
+from functools import cached_property
 from pathlib import Path
+from typing import Any, ClassVar
 
 from ioc_bench.paths import check_output_dir
+
+#: Hex digits of a cached input's key.
+KEY_LENGTH = 20
 
 #: Where the cache is looked for, in order (for messages).
 WHERE = "IOC_BENCH_CACHE, else XDG_CACHE_HOME/ioc-bench, else ~/.cache/ioc-bench"
@@ -39,3 +46,32 @@ def check_cache() -> Path:
         return check_output_dir(cache_dir() / "demos")
     except ValueError as exc:
         raise ValueError(f"the demonstration cache ({WHERE}) cannot be used: {exc}") from None
+
+
+class CachedInput:
+    """Something solved once and kept in the cache (a demonstration, a human reference step),
+    named by its key: a hash of what it depends on (:meth:`payload`) and of its kind's
+    :attr:`revision`, which a change to how it is solved raises. Two are equal when their
+    keys are, so cases that need the same input share one solve. A kind gives
+    :meth:`payload`, :attr:`revision` and :meth:`prepare`."""
+
+    revision: ClassVar[int]
+
+    def payload(self) -> dict[str, Any]:
+        """Every input the solved thing depends on, as JSON values."""
+        raise NotImplementedError
+
+    def prepare(self) -> Any:
+        """The solved thing: from the cache if its entry is this key's, else solved and kept."""
+        raise NotImplementedError
+
+    @cached_property
+    def key(self) -> str:
+        payload = self.payload() | {"revision": self.revision}
+        return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:KEY_LENGTH]
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and self.key == other.key
+
+    def __hash__(self) -> int:
+        return hash(self.key)

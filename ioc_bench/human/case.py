@@ -46,12 +46,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ioc_bench.bases import DEFAULT_BASIS, get_basis
-from ioc_bench.cache import cache_dir
+from ioc_bench.cache import CachedInput, cache_dir
 from ioc_bench.fileio import atomic_write_json
 from ioc_bench.human import baselines
 from ioc_bench.human.models import HUMAN_MODELS as HUMAN_MODELS  # the case's models, named here too
@@ -549,7 +549,7 @@ def _negated(value: bool | None) -> bool | None:
 
 
 @dataclass(frozen=True, eq=False)
-class ReferenceStep:
+class ReferenceStep(CachedInput):
     """A reference step to prepare: named weights (``nominal`` or a direction) solved at one
     human step's task on the case's model. Its result depends on the model and the subject's
     parameters on it, the task, the weights, the starts and the seed only, so it is solved
@@ -569,27 +569,21 @@ class ReferenceStep:
         """The task solved: :attr:`task`, or the step's own."""
         return self.task or self.step.task
 
-    @cached_property
-    def key(self) -> str:
-        model = get_model(self.model)
+    revision: ClassVar[int] = REFERENCE_REVISION
+
+    def payload(self) -> dict[str, Any]:
+        """Every input of the reference step (the default model is not named in it)."""
         payload = {
             "label": self.label,
-            "params": subject_params(self.step.params, model).to_dict(),
+            "params": subject_params(self.step.params, get_model(self.model)).to_dict(),
             "task": self.walker_task.to_dict(),
             "knots": self.step.n_knots,
             "starts": self.starts,
             "seed": self.seed,
-            "revision": REFERENCE_REVISION,
         }
         if self.model != DEFAULT_MODEL:
             payload["model"] = self.model
-        return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, ReferenceStep) and self.key == other.key
-
-    def __hash__(self) -> int:
-        return hash(self.key)
+        return payload
 
     def prepare(self) -> SolvedStep:
         """The reference step, from the cache if its entry is this key's, else solved (and kept)."""

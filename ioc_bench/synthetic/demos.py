@@ -12,20 +12,18 @@ from the cache (DEBUG), a cache entry that is not the one asked for or cannot be
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import logging
 import time
 import zipfile
 from dataclasses import dataclass
-from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
-from ioc_bench.cache import cache_dir
+from ioc_bench.cache import CachedInput, cache_dir
 from ioc_bench.demo import Demonstration, DemonstrationFileError
 from ioc_bench.features import cost_features
 from ioc_bench.fileio import atomic_write
@@ -46,7 +44,7 @@ logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True, eq=False)
-class DemoRequest:
+class DemoRequest(CachedInput):
     """What makes a demonstration: the one key for the cache and for sharing it between cases.
 
     Attributes:
@@ -70,9 +68,10 @@ class DemoRequest:
     n_intervals: int = DEFAULT_INTERVALS
     features: tuple[str, ...] | None = None
 
-    @cached_property
-    def key(self) -> str:
-        """A hash of every input and of :data:`SOLVER_REVISION` (the walker's keys as before models)."""
+    revision: ClassVar[int] = SOLVER_REVISION
+
+    def payload(self) -> dict[str, Any]:
+        """Every input of the demonstration (the default model is not named in it)."""
         payload = {
             "weights": [round(float(w), 12) for w in self.weights],
             "params": self.params.to_dict(),
@@ -80,7 +79,6 @@ class DemoRequest:
             "seed": self.seed,
             "starts": self.starts,
             "n_intervals": self.n_intervals,
-            "revision": SOLVER_REVISION,
         }
         if self.task.step_length is not None:
             payload["step_length"] = self.task.step_length
@@ -88,13 +86,7 @@ class DemoRequest:
             payload["model"] = self.model
         if self.features is not None:
             payload["features"] = list(self.features)
-        return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, DemoRequest) and self.key == other.key
-
-    def __hash__(self) -> int:
-        return hash(self.key)
+        return payload
 
     def prepare(self) -> Demonstration:
         """The demonstration: from the cache if its entry is this request's, else solved (all cores)."""
