@@ -46,9 +46,10 @@ SWING_CONDIM = 1
 
 def build_model(params: MujocoParams | None = None, contact: ContactSettings | None = None) -> mujoco.MjModel:
     """The compiled MuJoCo model for ``params`` (default: the walker of ``docs/spec.md``,
-    "Segment parameters"; a ``FootedParams``: the walker with rolling feet).
+    "Segment parameters"; a rolling-feet ``FootedParams``: the walker with rolling feet).
 
-    ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics.
+    ``contact`` defaults to :data:`DEFAULT_CONTACT`, the environment's physics. ``ValueError``
+    in one line for the parameters of a gait model without a MuJoCo model (``ankle-feet``).
     """
     return mujoco.MjModel.from_xml_string(model_mjcf(params or WalkerParams(), contact or DEFAULT_CONTACT))
 

@@ -30,7 +30,7 @@ from envs.state import WalkerState
 from ioc_bench.demo import Demonstration
 from ioc_bench.features import COST_FEATURES, FEATURES, group_columns
 from ioc_bench.model.catalogue import model_of
-from ioc_bench.model.mjcf import LEGS, ContactSettings
+from ioc_bench.model.mjcf import LEGS, ContactSettings, check_mjcf_model
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import ACTUATORS
 from ioc_bench.weights import WeightSpec, parse_weights
@@ -261,6 +261,7 @@ class PlanarWalkerEnv(gym.Env, utils.EzPickle):
     def _checked_demonstration(self, demo: DemonstrationSpec) -> Demonstration:
         if not isinstance(demo, Demonstration):
             demo = Demonstration.load(demo)
+        check_mjcf_model(demo.model)
         if model_of(demo.params) is not model_of(self.params):
             raise ValueError(f"the demonstration is of the {demo.model!r} model, not this environment's")
         lengths = [(s.length, s.com) for s in (demo.params.torso, demo.params.thigh, demo.params.shank)]

@@ -18,6 +18,7 @@ from envs.coordinates import check_actuators, to_generalized
 from ioc_bench.demo import Demonstration
 from ioc_bench.model.catalogue import get_model
 from ioc_bench.model.linkage import Linkage, point_offset
+from ioc_bench.model.mjcf import check_mjcf_model
 from ioc_bench.model.walker import ACTUATORS
 from ioc_bench.trajopt.collocation import interpolate, quadratic
 
@@ -111,9 +112,9 @@ class DemoReference:
 
 
 def demo_linkage(demo: Demonstration) -> Linkage:
-    """The linkage of ``demo``'s gait model and parameters (``ValueError`` if its actuators
-    are not the MuJoCo models')."""
-    return check_actuators(get_model(demo.model).linkage(demo.params))
+    """The linkage of ``demo``'s gait model and parameters (``ValueError`` if its model has no
+    MuJoCo model, or its actuators are not the MuJoCo models')."""
+    return check_actuators(get_model(check_mjcf_model(demo.model)).linkage(demo.params))
 
 
 def hip_over_foot(link: Linkage, theta: np.ndarray, omega: np.ndarray) -> tuple[float, float]:

@@ -265,11 +265,21 @@ def model_features(model: GaitModel) -> tuple[str, ...]:
     return tuple(n for n in available_features(model) if FEATURES[n].in_default_basis)
 
 
+def efforts(names: Sequence[str]) -> tuple[str, ...]:
+    """The effort features among ``names``, in their order: features of the default basis
+    with a per-knot increment (any model's: the ankle's too, not only the walker's)."""
+    return tuple(n for n in names if n in FEATURES and _is_effort(FEATURES[n]))
+
+
+def _is_effort(feature: Feature) -> bool:
+    return feature.in_default_basis and feature.increment is not None
+
+
 def cost_features(model: GaitModel) -> tuple[str, ...]:
     """The effort features a model's demonstrations are made with, in weight order: its
     features with a per-knot increment (the others are distractors). Features outside the
     default basis are in neither list."""
-    return tuple(n for n in model_features(model) if FEATURES[n].increment is not None)
+    return efforts(model_features(model))
 
 
 #: The walker's effort features, in weight order: ``cost_features(WALKER)``.

@@ -6,7 +6,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ioc_bench.features import ALL_FEATURES, COST_FEATURES
+from ioc_bench.features import ALL_FEATURES, COST_FEATURES, efforts
 
 #: The factor a ``penalize-<feature>`` set puts on its feature (the others 1).
 PENALTY = 10.0
@@ -85,12 +85,13 @@ def _numbers(values: object) -> np.ndarray:
 def parse_weights(spec: WeightSpec, features: Sequence[str] = COST_FEATURES) -> np.ndarray:
     """Unit-norm weights over ``features`` from a set name, numbers, or a name->value map.
 
-    Accepts a name of :func:`weight_sets` for the cost features among ``features`` (for the
-    walker: :data:`WEIGHT_SETS`), comma-separated numbers (``"1,10,1"``), a sequence of
-    numbers (one per cost feature, or one per feature), or a mapping from feature name to
-    weight (missing features get 0). Raises ``ValueError`` with a one-line reason otherwise.
+    Accepts a name of :func:`weight_sets` for the effort features among ``features`` (for
+    the walker: :data:`WEIGHT_SETS`; with an ankle: ``penalize-ankle`` too), comma-separated
+    numbers (``"1,10,1"``), a sequence of numbers (one per effort feature, or one per
+    feature), or a mapping from feature name to weight (missing features get 0). Raises
+    ``ValueError`` with a one-line reason otherwise.
     """
-    cost = tuple(f for f in features if f in COST_FEATURES)
+    cost = efforts(features)
     sets = weight_sets(cost)
     if isinstance(spec, str):
         if spec in sets:

@@ -1,4 +1,5 @@
-"""Made-up case results, consistent with their own derived numbers, for tests that need no solve."""
+"""Made-up case results, consistent with their own derived numbers, and made-up demonstrations,
+for tests that need no solve."""
 
 from __future__ import annotations
 
@@ -97,3 +98,39 @@ def write_run(root, errs: dict[tuple, float], failed=(), configs=None):
         result = synthetic_result(alg, ws, cond, seed, failed=failed_here, config=config, weight_error=error)
         write_result(root, CaseSpec(alg, ws, cond, seed, config), result)
     return root
+
+
+def unsolved_demonstration(model, n_knots: int = 9):
+    """A demonstration of ``model`` holding its rough first guess, zero torques and forces and
+    no solve: valid as a file (it saves and loads), for what reads a demonstration's model and
+    shapes before its step (the refusals of a model without a MuJoCo model)."""
+    from ioc_bench.demo import Demonstration
+    from ioc_bench.features import cost_features, model_features
+    from ioc_bench.task import Task
+    from ioc_bench.trajectory import Trajectory
+    from ioc_bench.trajopt.initial_guess import rough_step
+    from ioc_bench.trajopt.solution import SolverReport
+
+    params, task = model.default_params, Task(0.27)
+    link = model.linkage(params)
+    blocks = rough_step(model, params, task.speed, n_knots)
+    n_seg, n_pin, n_lock = len(link.segments), len(link.pins), len(link.locked)
+    trajectory = Trajectory(
+        blocks["dt"][0],
+        blocks["q"],
+        blocks["v"],
+        np.zeros((n_knots, len(link.actuated))),
+        acc=np.zeros((n_knots, n_seg, 3)),
+        lock=np.zeros((n_knots, n_lock)),
+        pin_forces=np.zeros((n_knots, n_pin, 2)),
+        impulses=np.zeros((n_pin, 2)),
+        trail_impulse=np.zeros(2),
+        lock_impulses=np.zeros(n_lock),
+    )
+    cost = cost_features(model)
+    weights = dict.fromkeys(cost, 1.0 / np.sqrt(len(cost)))
+    features = dict.fromkeys(model_features(model), 0.0)
+    report = SolverReport("Solve_Succeeded", True, 0.0, 0.0, 1, 0.1, 1.0)
+    return Demonstration(
+        trajectory, weights, features, params, task, report, n_intervals=(n_knots - 1) // 2, model=model.name
+    )

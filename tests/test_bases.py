@@ -6,15 +6,12 @@ import pytest
 
 from ioc_bench.bases import COST_BASES, DEFAULT_BASIS, get_basis
 from ioc_bench.features import FEATURES, cost_features
-from ioc_bench.model.catalogue import COMPASS, ROLLING_FEET
-from ioc_bench.model.feet import FootedParams, footed_model
+from ioc_bench.model.catalogue import ANKLE_FEET, COMPASS, ROLLING_FEET
 from ioc_bench.model.walker import WALKER
-
-ANKLE = footed_model("ankle-basis", FootedParams(feet="ankle", knee="free"))
 
 
 def test_the_default_basis_is_each_models_effort_features() -> None:
-    for model in (WALKER, COMPASS, ROLLING_FEET, ANKLE):
+    for model in (WALKER, COMPASS, ROLLING_FEET, ANKLE_FEET):
         assert get_basis(DEFAULT_BASIS).features(model) == cost_features(model)
 
 
@@ -22,7 +19,7 @@ def test_the_energetics_basis_adds_work_and_collision_after_the_efforts() -> Non
     energetics = get_basis("energetics")
     assert energetics.features(WALKER) == ("hip", "knee", "dtau", "work", "collision")
     assert energetics.features(COMPASS) == ("hip", "dtau", "work", "collision")  # no knee to weigh
-    assert energetics.features(ANKLE) == ("hip", "knee", "ankle", "dtau", "work", "collision")
+    assert energetics.features(ANKLE_FEET) == ("hip", "knee", "ankle", "dtau", "work", "collision")
     assert get_basis("effort-work").features(WALKER) == ("hip", "knee", "dtau", "work")
 
 

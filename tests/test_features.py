@@ -14,6 +14,7 @@ from ioc_bench.features import (
     available_features,
     check_names,
     cost_features,
+    efforts,
     evaluate,
     feature_map,
     feature_vector,
@@ -21,7 +22,7 @@ from ioc_bench.features import (
     step_inputs,
 )
 from ioc_bench.model.compass import COMPASS
-from ioc_bench.model.feet import REFERENCE_BODY, ROLLING_FEET, footed_model, footed_params
+from ioc_bench.model.feet import ANKLE_FEET, ROLLING_FEET
 from ioc_bench.model.linkage import joint_moments
 from ioc_bench.model.walker import WALKER, walker_linkage
 from ioc_bench.trajectory import Observation
@@ -30,7 +31,6 @@ from ioc_bench.trajopt.step_problem import StepProblem
 
 G = 9.81  # the paper's units: a 1 m, 1 kg walker under g = 9.81 m/s^2
 EPS = 0.3  # W, the work feature's smoothing (docs/spec.md, "Work and collision features")
-ANKLE_FEET = footed_model("ankle-feet", footed_params(**REFERENCE_BODY, feet="ankle"))
 MODELS = (WALKER, COMPASS, ROLLING_FEET, ANKLE_FEET)
 NEW = ("work", "collision")
 
@@ -311,3 +311,9 @@ def test_collision_pairs_each_post_impact_velocity_with_the_segment_that_has_it(
     fmap = FeatureMap(WALKER, traj.n_knots, ("collision",))
     lp = np.asarray(link.parameter_vector(), dtype=float)
     assert float(fmap.phi(fmap.inputs(traj), lp)) == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_efforts_of_any_model_are_told_by_their_definition():
+    """An effort is a default-basis feature with a per-knot increment: the ankle's too."""
+    assert efforts(("hip", "ankle", "torso", "work", "dtau", "collision", "nope")) == ("hip", "ankle", "dtau")
+    assert all(efforts(model_features(m)) == cost_features(m) for m in MODELS)

@@ -42,8 +42,7 @@ from envs.checks.physics_checks import (
 from envs.physics import MujocoParams, Physics
 from envs.tracking import PDGains
 from ioc_bench.demo import Demonstration
-from ioc_bench.model.feet import ROLLING_FEET
-from ioc_bench.model.walker import WALKER
+from ioc_bench.model.mjcf import MJCF_MODELS
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,16 +94,17 @@ class ReplayReport:
 
 
 #: The gait models that have a MuJoCo model (``ioc_bench.model.mjcf``) to check and replay in.
-REPLAYABLE_MODELS = (WALKER.name, ROLLING_FEET.name)
+REPLAYABLE_MODELS = MJCF_MODELS
 
 
 def check_replayable(demo: Demonstration) -> None:
     """``ValueError`` unless ``demo``'s gait model has a MuJoCo model (the other models of the
     catalogue have none yet: their demonstrations are verified by the optimizer only)."""
     if demo.model not in REPLAYABLE_MODELS:
+        models = " and ".join(REPLAYABLE_MODELS)
         raise ValueError(
-            f"a {demo.model!r} demonstration cannot be replayed: only the {' and '.join(REPLAYABLE_MODELS)} "
-            "models have a MuJoCo model so far"
+            f"a demonstration of the {demo.model!r} model cannot be replayed: only the {models} models have a "
+            "MuJoCo model so far"
         )
 
 

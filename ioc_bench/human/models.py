@@ -13,7 +13,8 @@ such a model end to end (observation, IOC problem, forward solves, cache keys).
   and the knee differ, so a walker and a rolling-feet case of a subject are comparable.
 
 Not mappable: the compass walker (rigid legs: no thigh and shank to take the person's two
-leg angles apart) and a foot on an ankle (its foot angle is not part of the mapped step).
+leg angles apart) and ``ankle-feet`` (a foot on an ankle: its foot angle is not part of the
+mapped step).
 """
 
 from __future__ import annotations
@@ -22,13 +23,19 @@ from dataclasses import replace
 from typing import Any
 
 from ioc_bench.model.catalogue import MODELS, get_model
-from ioc_bench.model.feet import ROLLING_FEET, FootedParams, from_walker
+from ioc_bench.model.compass import COMPASS
+from ioc_bench.model.feet import ANKLE_FEET, ROLLING_FEET, FootedParams, from_walker
 from ioc_bench.model.gait_model import GaitModel
 from ioc_bench.model.params import WalkerParams
 from ioc_bench.model.walker import WALKER
 
 #: The models a human step can be mapped to (the subject's walker is built for them).
 HUMAN_MODELS: tuple[str, ...] = (WALKER.name, ROLLING_FEET.name)
+#: Why a human step does not map to each of the catalogue's other models.
+_NOT_MAPPED: dict[str, str] = {
+    COMPASS.name: "a person's step gives a thigh's and a shank's angle per leg",
+    ANKLE_FEET.name: "a person's mapped step has no foot angle for its feet on ankles",
+}
 
 
 def check_human_model(name: Any) -> str:
@@ -38,10 +45,8 @@ def check_human_model(name: Any) -> str:
     if not isinstance(name, str) or name not in MODELS:
         raise ValueError(f"unknown gait model {name!r}; human steps map to the models {valid}")
     if name not in HUMAN_MODELS:
-        raise ValueError(
-            f"human steps map to the models {valid}, not {name!r} (a person's step gives a thigh's and a "
-            "shank's angle per leg)"
-        )
+        reason = _NOT_MAPPED.get(name, "its segments are not the walker's")
+        raise ValueError(f"human steps map to the models {valid}, not {name!r} ({reason})")
     return name
 
 

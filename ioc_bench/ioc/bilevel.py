@@ -415,9 +415,10 @@ def _gauss_newton_path(problem: IOCProblem, fit: _Fit, w0: np.ndarray) -> tuple[
 
 
 def _has_distractors(problem: IOCProblem) -> bool:
-    from ioc_bench.features import COST_FEATURES
+    """Whether the problem weighs a feature that is no effort (an ankle's effort is one)."""
+    from ioc_bench.features import efforts
 
-    return any(f not in COST_FEATURES for f in problem.features)
+    return len(efforts(problem.features)) < len(problem.features)
 
 
 def _bic(fit: _Fit, w: np.ndarray) -> float:

@@ -1,7 +1,7 @@
 """Walkers with feet: the 5-segment walker with rolling feet, or with feet on actuated ankles.
 
 Three descriptions of one family, measured against people in ``docs/feet.md`` (which says
-why the catalogue holds the one it holds):
+what the catalogue holds of them, and why):
 
 - ``knee="free"``: the knee-lock is optional. A free knee keeps its range ``[0,
   knee_max_flexion]`` as a hard limit, but no passive element holds it straight: the knee
@@ -82,6 +82,9 @@ ANKLE_RANGE = (-0.6, 0.6)
 @dataclass(frozen=True)
 class FootedParams:
     """Parameters of a walker with feet (defaults: :data:`REFERENCE_BODY` through Winter).
+
+    The default segments are ``footed_params(**REFERENCE_BODY)``'s, whose shank reaches the
+    floor; a foot on an ankle on that body is ``footed_params(**REFERENCE_BODY, feet="ankle")``.
 
     Attributes:
         torso, thigh: as the walker's.
@@ -337,5 +340,9 @@ def footed_model(name: str, params: FootedParams) -> GaitModel:
     )
 
 
-#: The catalogue's walker with feet: rolling feet and a free knee (``docs/feet.md`` says why).
+#: The catalogue's walker with rolling feet and a free knee (``docs/feet.md`` says why).
 ROLLING_FEET = footed_model("rolling-feet", FootedParams())
+#: The catalogue's walker with feet on actuated ankles and a free knee, on the same reference
+#: body through Winter's table. Built by :func:`footed_params`, not ``FootedParams(feet="ankle")``,
+#: whose default shank reaches the floor (it carries the foot, as the rolling-feet walker's does).
+ANKLE_FEET = footed_model("ankle-feet", footed_params(**REFERENCE_BODY, feet="ankle", knee="free"))

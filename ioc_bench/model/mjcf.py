@@ -3,7 +3,9 @@
 The optimizer and MuJoCo must describe one and the same walker, so the MJCF is built in
 code from the parameters (``docs/spec.md``, "The walker"): a model variant such as
 ``WalkerParams().with_leg_mass_scale(1.1)`` gives the matching MuJoCo model with no
-extra code. This module only writes a string; it does not import MuJoCo.
+extra code. This module only writes a string; it does not import MuJoCo. Two gait models of
+the catalogue have a MuJoCo model, the walker and ``rolling-feet`` (:data:`MJCF_MODELS`);
+the others (``compass``, ``ankle-feet``) are refused by name (:func:`check_mjcf_model`).
 
 Layout (every element named; each motor shares its joint's name):
 
@@ -55,8 +57,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ioc_bench.model.feet import FootedParams
+from ioc_bench.model.catalogue import model_of
+from ioc_bench.model.feet import ROLLING_FEET, FootedParams
 from ioc_bench.model.params import SegmentParams, WalkerParams
+from ioc_bench.model.walker import WALKER
 
 #: Radius of each foot's collision sphere (leg lengths).
 FOOT_RADIUS = 0.001
@@ -202,14 +206,27 @@ def rolling_feet_mjcf(params: FootedParams | None = None, contact: ContactSettin
     return _mjcf("ioc_bench_rolling_feet", params or FootedParams(), contact or ContactSettings())
 
 
+#: The writer of each gait model that has a MuJoCo model, by the model's name.
+_WRITERS = {WALKER.name: walker_mjcf, ROLLING_FEET.name: rolling_feet_mjcf}
+#: The gait models of the catalogue that have a MuJoCo model; the others' steps (``compass``,
+#: ``ankle-feet``) are verified by the optimizer only.
+MJCF_MODELS: tuple[str, ...] = tuple(_WRITERS)
+
+
+def check_mjcf_model(name: str) -> str:
+    """``name`` if that gait model has a MuJoCo model; else ``ValueError`` in one line naming it."""
+    if name not in _WRITERS:
+        raise ValueError(
+            f"the {name!r} gait model has no MuJoCo model: only the {' and '.join(MJCF_MODELS)} models have one so far"
+        )
+    return name
+
+
 def model_mjcf(params: WalkerParams | FootedParams, contact: ContactSettings | None = None) -> str:
-    """MJCF of the gait model ``params`` are the parameters of (by type): the walker's or the
-    rolling-feet walker's. ``ValueError`` for parameters of a model without a MuJoCo model."""
-    if isinstance(params, WalkerParams):
-        return walker_mjcf(params, contact)
-    if isinstance(params, FootedParams):
-        return rolling_feet_mjcf(params, contact)
-    raise ValueError(f"no MuJoCo model for parameters of type {type(params).__name__}")
+    """MJCF of the gait model ``params`` are the parameters of (:func:`~ioc_bench.model.catalogue.model_of`):
+    the walker's or the rolling-feet walker's. ``ValueError`` in one line for parameters of
+    no catalogue model or of a model without a MuJoCo model (naming it)."""
+    return _WRITERS[check_mjcf_model(model_of(params).name)](params, contact)
 
 
 def _mjcf(name: str, p: WalkerParams | FootedParams, c: ContactSettings) -> str:

@@ -13,7 +13,7 @@ from typing import Any
 
 from ioc_bench.bases import DEFAULT_BASIS, get_basis
 from ioc_bench.features import cost_features
-from ioc_bench.model.catalogue import COMPASS, DEFAULT_MODEL, ROLLING_FEET, get_model
+from ioc_bench.model.catalogue import ANKLE_FEET, COMPASS, DEFAULT_MODEL, ROLLING_FEET, get_model
 from ioc_bench.synthetic.case import CaseSpec
 from ioc_bench.synthetic.conditions import AXES, axis_conditions, get_condition, lookup, register
 from ioc_bench.validation import check_seed
@@ -140,6 +140,23 @@ SUITES: dict[str, Suite] = {
             weight_sets=tuple(weight_sets(cost_features(ROLLING_FEET))),
             conditions=PAPER_CONDITIONS,
             model=ROLLING_FEET.name,
+        ),
+        Suite(
+            "ankle-feet-ideal",
+            "the walker with feet on actuated ankles and a free knee, exact: its 5 weight sets (nominal, each of hip, "
+            "knee, ankle, dtau penalised) x ideal",
+            weight_sets=tuple(weight_sets(cost_features(ANKLE_FEET))),
+            conditions=("ideal",),
+            model=ANKLE_FEET.name,
+        ),
+        Suite(
+            "ankle-feet-effort-work-ideal",
+            "the effort-work cost basis on the walker with feet on actuated ankles, exact: its 6 weight sets "
+            "(nominal, each of hip, knee, ankle, dtau, work penalised) x ideal",
+            weight_sets=tuple(get_basis("effort-work").weight_sets(ANKLE_FEET)),
+            conditions=("ideal",),
+            model=ANKLE_FEET.name,
+            basis="effort-work",
         ),
         Suite(
             "energetics-ideal",

@@ -102,3 +102,29 @@ def test_the_effort_work_suite_weighs_work_beside_the_efforts():
     ]
     assert {c.features for c in cases} == {("hip", "knee", "dtau", "work")}
     assert cases[-1].demo_request().features == ("hip", "knee", "dtau", "torso", "steplen", "footheight", "work")
+
+
+def test_the_ankle_feet_suites_weigh_the_ankles_on_their_own_model():
+    """``ankle-feet-ideal``: the model's own effort basis (the ankle's effort among them);
+    ``ankle-feet-effort-work-ideal``: the effort-work basis on that model. Built, not run."""
+    effort = get_suite("ankle-feet-ideal").cases("x")
+    assert [c.weight_set for c in effort] == [
+        "nominal", "penalize-hip", "penalize-knee", "penalize-ankle", "penalize-dtau"
+    ]  # fmt: skip
+    assert {(c.model, c.basis, c.condition) for c in effort} == {("ankle-feet", "effort", "ideal")}
+    ankle = effort[3]
+    assert ankle.cost_features == ("hip", "knee", "ankle", "dtau") and set(ankle.features) == set(ankle.cost_features)
+    assert ankle.true_over_features()[ankle.features.index("ankle")] == max(ankle.true_over_features())
+    assert ankle.key == "x/penalize-ankle__ideal__seed0__model-ankle-feet"
+    request = ankle.demo_request()
+    assert request.model == "ankle-feet" and request.features is None and request.weights.argmax() == 2
+    work = get_suite("ankle-feet-effort-work-ideal").cases("x")
+    assert [c.weight_set for c in work] == [
+        "nominal", "penalize-hip", "penalize-knee", "penalize-ankle", "penalize-dtau", "penalize-work"
+    ]  # fmt: skip
+    assert {(c.model, c.basis) for c in work} == {("ankle-feet", "effort-work")}
+    assert work[-1].cost_features == ("hip", "knee", "ankle", "dtau", "work")
+    assert work[-1].key == "x/penalize-work__ideal__seed0__model-ankle-feet__basis-effort-work"
+    assert work[-1].demo_request().features == (
+        "hip", "knee", "ankle", "dtau", "torso", "steplen", "footheight", "work"
+    )  # fmt: skip

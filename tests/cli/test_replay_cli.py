@@ -226,5 +226,22 @@ def test_a_demonstration_of_a_model_without_mujoco_model_is_one_line_before_any_
     compass = optimize_gait("nominal", task=Task(0.27), starts=1, seed=0, workers=1, model=COMPASS)
     other = str(compass.save(tmp_path / "compass.npz"))
     err = _bad_exit(["replay", demo_file, other, "--no-video", "--out", str(tmp_path / "out")], capsys)
-    assert "compass.npz: a 'compass' demonstration cannot be replayed: only the walker and rolling-feet" in err
+    assert (
+        "compass.npz: a demonstration of the 'compass' model cannot be replayed: only the walker and rolling-feet"
+        in err
+    )
     assert not (tmp_path / "out").exists()  # refused before the output folder is made
+
+
+@pytest.mark.parametrize("command", [["replay"], ["export", "--format", "sto"]])
+def test_an_ankle_feet_demonstration_is_refused_by_name_before_any_output(command, tmp_path, capsys):
+    """The ankle model has no MuJoCo model: its demonstration (made up, nothing solved) is
+    refused in one line, exit 2, before anything is written."""
+    from synthetic import unsolved_demonstration
+
+    from ioc_bench.model.feet import ANKLE_FEET
+
+    path = str(unsolved_demonstration(ANKLE_FEET).save(tmp_path / "ankle.npz"))
+    err = _bad_exit([command[0], path, *command[1:], "--out", str(tmp_path / "out")], capsys)
+    assert "ankle.npz: a demonstration of the 'ankle-feet' model cannot be replayed" in err
+    assert not (tmp_path / "out").exists()

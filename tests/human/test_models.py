@@ -49,6 +49,16 @@ def test_only_models_with_the_walkers_leg_segments_are_mapped() -> None:
         check_human_model("nope")
 
 
+def test_the_ankle_feet_walker_is_refused_for_the_foot_angle_a_step_lacks(step) -> None:
+    with pytest.raises(ValueError, match=r"not 'ankle-feet' \(a person's mapped step has no foot angle") as err:
+        check_human_model("ankle-feet")
+    assert "\n" not in str(err.value)
+    with pytest.raises(ValueError, match="not 'ankle-feet'"):
+        subject_params(step.params, get_model("ankle-feet"))
+    with pytest.raises(ValueError, match="not 'ankle-feet'"):
+        HumanCaseSpec("WBDS01", "T05", ("T04",), "bilevel", model="ankle-feet")
+
+
 def test_the_rolling_feet_observation_holds_the_persons_angles_and_rests_on_the_ground(step) -> None:
     obs = human_observation(step, model=ROLLING_FEET)
     segments = model_segments(ROLLING_FEET)

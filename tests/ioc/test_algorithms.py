@@ -35,3 +35,15 @@ def test_analytic_center_recovers_weights_in_the_ideal_condition(weights):
     assert result.weight_error < 0.01, (result.weights, result.true_weights)
     assert result.trajectory_error < 1e-3
     assert np.isclose(np.linalg.norm(result.weights), 1.0)
+
+
+def test_bilevels_sparsity_path_is_for_features_that_are_no_effort():
+    """The L1 path (distractors may be zero) runs when a non-effort feature is weighed; the
+    ankle's effort is an effort, as the walker's are."""
+    from types import SimpleNamespace
+
+    from ioc_bench.ioc.bilevel import _has_distractors
+
+    assert not _has_distractors(SimpleNamespace(features=("hip", "knee", "dtau", "ankle")))
+    assert _has_distractors(SimpleNamespace(features=("hip", "knee", "dtau", "torso")))
+    assert _has_distractors(SimpleNamespace(features=("hip", "knee", "dtau", "work")))

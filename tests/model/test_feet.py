@@ -7,8 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from ioc_bench.model.catalogue import get_model, model_of
+from ioc_bench.features import cost_features, model_features
+from ioc_bench.model.catalogue import MODELS, get_model, model_of
 from ioc_bench.model.feet import (
+    ANKLE_FEET,
+    ANKLE_RANGE,
     REFERENCE_BODY,
     ROLLING_FEET,
     FootedParams,
@@ -31,6 +34,9 @@ from ioc_bench.model.linkage import (
     point_position,
 )
 from ioc_bench.model.params import WalkerParams
+from ioc_bench.optimize import optimize_gait
+from ioc_bench.task import Task
+from ioc_bench.weights import parse_weights, weight_sets
 
 
 def _wheel(radius: float = 0.3) -> Segment:
@@ -135,3 +141,56 @@ def test_the_kinds_build_their_linkages():
 def test_the_catalogue_holds_the_rolling_feet_walker():
     assert get_model("rolling-feet") is ROLLING_FEET and model_of(FootedParams()) is ROLLING_FEET
     assert ROLLING_FEET.roles.swap_joints == (("hip_stance", "hip_swing"), ("knee_stance", "knee_swing"))
+
+
+def test_the_catalogue_holds_the_ankle_feet_walker():
+    assert get_model("ankle-feet") is ANKLE_FEET and list(MODELS)[-1] == "ankle-feet"
+    params = ANKLE_FEET.default_params
+    assert params == footed_params(**REFERENCE_BODY, feet="ankle", knee="free")
+    assert params.total_mass == pytest.approx(1.0) and params.leg_length == pytest.approx(1.0)
+    assert params.ankle_range == ANKLE_RANGE == (-0.6, 0.6) and params.roll_radius == 0.3
+    assert ANKLE_FEET.roles.swap_joints == (
+        ("hip_stance", "hip_swing"),
+        ("knee_stance", "knee_swing"),
+        ("ankle_stance", "ankle_swing"),
+    )
+    assert ANKLE_FEET.roles.swap_segments[-1] == ("foot_stance", "foot_swing")
+    link = ANKLE_FEET.linkage(params)
+    assert not link.locked and [j.name for j in link.limited] == [
+        "knee_stance", "knee_swing", "ankle_stance", "ankle_swing"
+    ]  # fmt: skip
+
+
+def test_the_model_of_a_walker_with_feet_is_told_by_its_feet():
+    assert model_of(FootedParams(feet="ankle")) is ANKLE_FEET and model_of(ANKLE_FEET.default_params) is ANKLE_FEET
+    assert (
+        model_of(FootedParams()) is ROLLING_FEET
+        and model_of(from_walker(WalkerParams(), "roll", "lock")) is ROLLING_FEET
+    )
+    with pytest.raises(ValueError, match="got FootedParams with feet='point'") as err:
+        model_of(FootedParams(feet="point"))
+    assert "\n" not in str(err.value) and "FootedParams with feet='ankle' (ankle-feet)" in str(err.value)
+
+
+def test_the_ankle_feet_walkers_cost_weighs_the_ankles():
+    assert cost_features(ANKLE_FEET) == ("hip", "knee", "ankle", "dtau")
+    sets = weight_sets(cost_features(ANKLE_FEET))
+    assert list(sets) == ["nominal", "penalize-hip", "penalize-knee", "penalize-ankle", "penalize-dtau"]
+    w = parse_weights("penalize-ankle", model_features(ANKLE_FEET))
+    assert w.argmax() == 2 and w[:4] == pytest.approx(np.array([1, 1, 10, 1]) / np.sqrt(103))
+    assert parse_weights("nominal", model_features(ANKLE_FEET))[:4] == pytest.approx(np.full(4, 0.5))
+    with pytest.raises(ValueError, match="expected 4 weights"):
+        parse_weights("1,10,1", model_features(ANKLE_FEET))
+
+
+def test_the_ankle_feet_walker_solves_cold(tmp_path):
+    """One cold multi-start of the ankle model at a loose setting (10 intervals, no
+    local-minimum check) converges, and its demonstration file reads back as ankle-feet."""
+    demo = optimize_gait(
+        "nominal", task=Task(0.27), starts=3, seed=0, workers=1, n_intervals=10, model=ANKLE_FEET, verify=False
+    )
+    assert demo.solver.success, demo.solver
+    assert demo.model == "ankle-feet" and demo.weights["ankle"] == pytest.approx(0.5)
+    assert np.abs(demo.trajectory.tau[:, -2:]).max() > 0  # the ankles work
+    again = type(demo).load(demo.save(tmp_path / "ankle.npz"))
+    assert again.model == "ankle-feet" and again.params == ANKLE_FEET.default_params

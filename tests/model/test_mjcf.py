@@ -10,13 +10,15 @@ import numpy as np
 import pytest
 
 from ioc_bench import WalkerParams
-from ioc_bench.model.feet import ROLL_RADIUS, FootedParams, footed_linkage
+from ioc_bench.model.feet import ANKLE_FEET, ROLL_RADIUS, FootedParams, footed_linkage
 from ioc_bench.model.mjcf import (
     FOOT_RADIUS,
     JOINTS,
+    MJCF_MODELS,
     MOTORS,
     ContactSettings,
     FootSphere,
+    check_mjcf_model,
     foot_sphere,
     model_mjcf,
     rolling_feet_mjcf,
@@ -179,11 +181,28 @@ def test_rolling_feet_share_the_walker_layout_knee_range_and_masses():
     assert colliding == {"floor", "foot_a", "foot_b"}
 
 
-def test_model_mjcf_dispatches_by_parameter_type():
+def test_model_mjcf_dispatches_by_the_parameters_model():
     assert model_mjcf(WalkerParams()) == walker_mjcf()
     assert model_mjcf(FootedParams()) == rolling_feet_mjcf()
     assert foot_sphere(WalkerParams()) == FootSphere(FOOT_RADIUS, 0.0, 0.0)
+    assert MJCF_MODELS == ("walker", "rolling-feet") and check_mjcf_model("rolling-feet") == "rolling-feet"
     with pytest.raises(ValueError, match="only rolling feet"):
-        model_mjcf(replace(FootedParams(), feet="ankle"))
-    with pytest.raises(ValueError, match="no MuJoCo model"):
-        model_mjcf(CompassParams())
+        rolling_feet_mjcf(ANKLE_FEET.default_params)
+
+
+@pytest.mark.parametrize(
+    ("params", "match"),
+    [
+        (
+            ANKLE_FEET.default_params,
+            "the 'ankle-feet' gait model has no MuJoCo model: only the walker and rolling-feet",
+        ),
+        (replace(FootedParams(), feet="ankle"), "the 'ankle-feet' gait model has no MuJoCo model"),
+        (CompassParams(), "the 'compass' gait model has no MuJoCo model"),
+        (replace(FootedParams(), feet="point"), "got FootedParams with feet='point'"),
+    ],
+)
+def test_a_model_without_mujoco_model_is_refused_in_one_line_naming_it(params, match):
+    with pytest.raises(ValueError, match=match) as err:
+        model_mjcf(params)
+    assert "\n" not in str(err.value)
