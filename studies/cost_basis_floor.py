@@ -54,7 +54,11 @@ to ``--out``; a unit already there (same divisions, starts and seed) is skipped,
 resumes where it stopped and can be split with ``--subjects``, ``--trials``, ``--models``
 and ``--bases``. A line per finished unit goes to stderr. ``--plan`` lists what is left with
 its solve count and time estimate (no solve, no build); ``--table`` prints the summary of
-the file.
+the file, ending with each trial's floors side by side: the effort unit's, the rich unit's
+over its effort directions only (the effort cell's problems, inside the rich basis, from the
+same starts), and the rich unit's, with their medians over the trials where every model's
+rich unit ran. Where a model's effort unit has not run (the ankle model's cost 5-10x the
+walker's), its effort floor is read from the rich unit that way; its rejection test is not.
 
 Solves with the defaults (``--divisions 2 --starts 8``): per unit, directions x starts plus
 two projections (the synthetic optimum's, and the person's, which the bases of one run share;
@@ -302,7 +306,68 @@ def table(records: Sequence[dict[str, Any]], divisions: int, starts: int, seed: 
             f"{_num(person.get('relative_residual'), '.3g')} / {_num(optimum.get('relative_residual'), '.3g')} | "
             f"{rej['verdict']} | {failed} / {r['n_directions']} | {r['solves']} | {r['wall_time']:.0f} |"
         )
-    return "\n".join(lines)
+    paired = paired_table(mine)
+    return "\n".join([*lines, *([""] if paired else []), *paired])
+
+
+def effort_floor_of_rich(record: dict[str, Any]) -> tuple[float | None, str | None]:
+    """The best RMSE (and its direction) over a rich unit's directions that weigh the model's
+    efforts only: the effort cell's problems, solved inside the rich basis from the same
+    starts. On the walker's 12 trials this equals the effort unit's own floor within 0.001
+    deg (single directions may differ where their optimum is not unique)."""
+    effort = set(basis_features(record["model"], "effort"))
+    best: tuple[float | None, str | None] = (None, None)
+    for d in record["directions"]:
+        rmse = d.get("rmse_deg")
+        weighs_others = any(k and f not in effort for f, k in zip(record["features"], d["lattice"]))
+        if d["success"] and rmse is not None and not weighs_others and (best[0] is None or rmse < best[0]):
+            best = (rmse, d["label"])
+    return best
+
+
+def paired_table(records: Sequence[dict[str, Any]]) -> list[str]:
+    """Per trial with a rich unit, each model's floors side by side: the effort unit's, the
+    rich unit's over its effort directions (:func:`effort_floor_of_rich`) and the rich unit's;
+    then their medians over the trials every model's rich unit ran, so the cells compare on
+    the same trials."""
+    units = {(r["subject"], r["trial"], r["model"], r["basis"]): r for r in records}
+    trials = sorted({(s, t) for s, t, _, b in units if b == "rich"})
+    if not trials:
+        return []
+    lines = [
+        "Floors per trial (best leg-angle RMSE, deg): the effort unit's, the rich unit's over its effort "
+        "directions only, and the rich unit's (- where a unit did not run):",
+        "",
+        "| subject | trial | model | effort unit | rich unit, effort directions | rich unit |",
+        "|---|---|---|---|---|---|",
+    ]
+    cells: dict[tuple[str, str], dict[tuple[str, str], float | None]] = {}
+    for s, t in trials:
+        for m in MODELS:
+            rich, effort = units.get((s, t, m, "rich")), units.get((s, t, m, "effort"))
+            if rich is None and effort is None:
+                continue
+            own = effort["best"]["rmse_deg"] if effort else None
+            inner = effort_floor_of_rich(rich)[0] if rich else None
+            whole = rich["best"]["rmse_deg"] if rich else None
+            lines.append(f"| {s} | {t} | {m} | {_num(own)} | {_num(inner)} | {_num(whole)} |")
+            if rich is not None:
+                cells.setdefault((s, t), {})[m, "effort"] = own if own is not None else inner
+                cells[s, t][m, "rich"] = whole
+    both = [k for k, v in cells.items() if all((m, "rich") in v for m in MODELS)]
+    if both:
+        medians = {c: _median(cells[k][c] for k in both) for c in itertools.product(MODELS, BASES)}
+        lines += [
+            "",
+            f"Medians over the {len(both)} trial(s) where every model's rich unit ran "
+            f"({', '.join(f'{s} {t}' for s, t in both)}); effort: the effort unit's floor, or the rich unit's "
+            "over its effort directions where no effort unit ran:",
+            "",
+            "| model | " + " | ".join(BASES) + " |",
+            "|---|" + "---|" * len(BASES),
+            *(f"| {m} | " + " | ".join(_num(medians[m, b]) for b in BASES) + " |" for m in MODELS),
+        ]
+    return lines
 
 
 # -- measuring (solves) --------------------------------------------------------------------------------

@@ -77,7 +77,11 @@ def _record(subject, trial, model, basis, rmse, ratio, verdict, divisions=2, sta
         "seed": 0,
         "person_step_length": 0.6,
         "n_directions": 6 if basis == "effort" else 15,
-        "directions": [{"success": True}, {"success": False}],
+        "features": ["hip", "knee", "dtau", *(["work", "collision"] if basis == "rich" else [])],
+        "directions": [
+            {"success": True, "label": "hip:1 dtau:1", "lattice": [1, 0, 1, 0, 0], "rmse_deg": rmse},
+            {"success": False, "label": "knee:2", "lattice": [0, 2, 0, 0, 0], "rmse_deg": None},
+        ],
         "best": {"label": "hip:1 dtau:1", "rmse_deg": rmse, "step_length": 0.55, "step_length_error": 0.087},
         "projection": {"rmse_deg": 0.8},
         "rejection": {
@@ -167,3 +171,43 @@ def test_units_run_end_to_end_with_a_stand_in_solver(study, tmp_path, monkeypatc
     assert study.pending(study.parse_args(["--out", str(path), "--subjects", "WBDS01", "--trials", "T05",
                                            "--divisions", "1", "--starts", "2"]), records) == []  # fmt: skip
     assert "| WBDS01 | T05 | ankle | rich |" in study.table(records, 1, 2, 0)
+
+
+def _rich(subject, trial, model, rmses):
+    """A rich unit whose directions are ``label -> rmse`` (None: the direction failed)."""
+    features = ["hip", "knee", "dtau", "work", "collision"]
+    if model == "ankle":
+        features.insert(2, "ankle")
+    directions = []
+    for label, rmse in rmses.items():
+        lattice = [dict(p.split(":") for p in label.split()).get(f, 0) for f in features]
+        directions.append({"label": label, "lattice": [int(k) for k in lattice], "success": rmse is not None,
+                           "rmse_deg": rmse})  # fmt: skip
+    ok = {k: v for k, v in rmses.items() if v is not None}
+    best = min(ok, key=ok.get)
+    return {"subject": subject, "trial": trial, "model": model, "basis": "rich", "features": features,
+            "directions": directions, "best": {"rmse_deg": ok[best], "label": best}}  # fmt: skip
+
+
+def test_the_effort_floor_inside_a_rich_unit(study):
+    """A rich unit's effort directions are those weighing no work or collision; a failed one is skipped."""
+    rich = _rich("WBDS01", "T05", "ankle", {"hip:1 knee:1": 12.0, "ankle:2": None, "ankle:1 dtau:1": 11.0,
+                                            "knee:1 work:1": 9.0, "collision:2": 8.0})  # fmt: skip
+    assert study.effort_floor_of_rich(rich) == (11.0, "ankle:1 dtau:1")
+    assert study.effort_floor_of_rich(_rich("WBDS01", "T05", "walker", {"work:2": 7.0})) == (None, None)
+
+
+def test_the_paired_table_compares_the_cells_on_the_same_trials(study):
+    records = [
+        _rich("WBDS01", "T05", "walker", {"hip:1 knee:1": 15.0, "work:2": 11.0}),
+        {**_record("WBDS01", "T05", "walker", "effort", 15.0, 1.0, "n/a"), "features": ["hip", "knee", "dtau"]},
+        _rich("WBDS01", "T05", "ankle", {"hip:1 knee:1": 10.0, "collision:2": 9.0}),
+        _rich("WBDS03", "T05", "walker", {"hip:1 knee:1": 13.0, "work:2": 12.0}),  # no ankle unit: not in the medians
+    ]
+    lines = study.paired_table(records)
+    assert "| WBDS01 | T05 | walker | 15.00 | 15.00 | 11.00 |" in lines
+    assert "| WBDS01 | T05 | ankle | - | 10.00 | 9.00 |" in lines
+    assert "| WBDS03 | T05 | ankle |" not in "\n".join(lines)
+    assert any(line.startswith("Medians over the 1 trial(s)") and "(WBDS01 T05)" in line for line in lines)
+    assert "| walker | 15.00 | 11.00 |" in lines and "| ankle | 10.00 | 9.00 |" in lines
+    assert study.paired_table([records[1]]) == []  # no rich unit, no table
