@@ -57,8 +57,8 @@ its solve count and time estimate (no solve, no build); ``--table`` prints the s
 the file, ending with each trial's floors side by side: the effort unit's, the rich unit's
 over its effort directions only (the effort cell's problems, inside the rich basis, from the
 same starts), and the rich unit's, with their medians over the trials where every model's
-rich unit ran. Where a model's effort unit has not run (the ankle model's cost 5-10x the
-walker's), its effort floor is read from the rich unit that way; its rejection test is not.
+rich unit ran. Where a model's effort unit has not run (the ankle model's solves cost about
+7x the walker's), its effort floor is read from the rich unit that way; its rejection test is not.
 
 Solves with the defaults (``--divisions 2 --starts 8``): per unit, directions x starts plus
 two projections (the synthetic optimum's, and the person's, which the bases of one run share;
@@ -67,22 +67,22 @@ a failed projection's retry adds one):
     cell            directions  solves per trial  solves, 12 trials  estimate on 1 core
     walker effort        6             50                600           15-30 min
     walker rich         15            122               1464           40-75 min
-    ankle effort        10             82                984           2.2-4.1 h
-    ankle rich          21            170               2040           4.5-8.5 h
-    all                                                 5088           about 8-14 h
+    ankle effort        10             82                984           4.1-5.5 h
+    ankle rich          21            170               2040           8.5-11.3 h
+    all                                                 5088           about 14-18 h
 
-The times are an estimate, not a measurement: the solves times :data:`SECONDS_PER_SOLVE`
-(walker 1.5-3 s a cold solve with the step length free: ``human_step_lengths.py`` takes ~3
-min for 135; ankle 8-15 s, 9.5-17 s under load in docs/notes/2026-12-03-feet-fit-and-solve-time.md, about 5x the
-walker), plus some seconds per problem built. Whether work and collision make solves slower
-is not measured (a solve that runs to IPOPT's 500 iterations takes several times a typical
-one). ``--plan`` prints the same for what is left. Parts under an hour each on
+The times are an estimate: the solves times :data:`SECONDS_PER_SOLVE` (walker 1.5-3 s a
+cold solve with the step length free: ``human_step_lengths.py`` takes ~3 min for 135, and
+the walker's rich units took 2.2-3.2 s a solve; ankle 17.8-18.5 s a solve in its first two
+rich units, two processes side by side, 50-52 min a unit, where half the starts end
+infeasible: docs/notes/2026-12-08-cost-basis-and-ankles.md), plus some seconds per problem
+built. ``--plan`` prints the same for what is left. Parts under an hour each on
 one core, e.g.:
 
     python studies/cost_basis_floor.py --models walker --bases effort                       # ~15-30 min
     python studies/cost_basis_floor.py --models walker --bases rich --subjects WBDS01       # ~12-25 min
-    python studies/cost_basis_floor.py --models ankle --bases effort --subjects WBDS01 --trials T03,T04  # ~22-41 min
-    python studies/cost_basis_floor.py --models ankle --bases rich --subjects WBDS01 --trials T03        # ~23-43 min
+    python studies/cost_basis_floor.py --models ankle --bases effort --subjects WBDS01 --trials T03,T04  # ~41-56 min
+    python studies/cost_basis_floor.py --models ankle --bases rich --subjects WBDS01 --trials T03        # ~43-58 min
     python studies/cost_basis_floor.py --plan                                                # what is left
     python studies/cost_basis_floor.py --table
 
@@ -125,7 +125,7 @@ PACKAGE_BASIS = {"effort": "effort", "rich": "energetics"}
 #: residual of a projected optimum (the same test on a step that is optimal for the basis).
 REJECT_FACTOR = 10.0
 #: Estimated seconds of one cold solve on one core, (low, high), for ``--plan``.
-SECONDS_PER_SOLVE = {"walker": (1.5, 3.0), "ankle": (8.0, 15.0)}
+SECONDS_PER_SOLVE = {"walker": (1.5, 3.0), "ankle": (15.0, 20.0)}
 #: Estimated seconds to build one forward problem (and its derivatives), for ``--plan``.
 SECONDS_PER_BUILD = {"walker": 10.0, "ankle": 20.0}
 #: Projections per unit: the person's and the synthetic optimum's.
