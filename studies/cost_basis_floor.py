@@ -7,7 +7,8 @@ for each cell of
 - model: ``walker`` (the subject's walker, point feet and knee-lock, as the human track
   maps a person) or ``ankle`` (the same subject's lengths through Winter's table on feet with
   actuated ankles, free knee: ``footed_params(..., "ankle", "free")``, as
-  ``studies/feet_floor.py`` builds it; the human track itself has no mapping onto it), and
+  ``studies/feet_floor.py`` builds it, the catalogue's ``ankle-feet`` on the subject's body;
+  the human track itself has no mapping onto it), and
 - basis: ``effort`` (the model's ``cost_features``: hip, knee, dtau; plus ankle on the
   ankle model) or ``rich`` (effort + ``work`` + ``collision``, ``ioc_bench/features.py``),
 
@@ -109,7 +110,7 @@ from typing import Any
 import numpy as np
 
 from ioc_bench.bases import get_basis
-from ioc_bench.model.feet import FootedParams, footed_model, footed_params
+from ioc_bench.model.feet import ANKLE_FEET, footed_model, footed_params
 from ioc_bench.model.gait_model import GaitModel, GuessShape
 from ioc_bench.model.walker import WALKER
 from ioc_bench.task import Task
@@ -135,9 +136,8 @@ DEFAULT_OUT = Path("docs/data/cost_basis_floor.jsonl")
 LEG_SEGMENTS = ("thigh_stance", "shank_stance", "thigh_swing", "shank_swing")
 FEET = ("foot_stance", "foot_swing")
 
-#: The ankle model's structure (its features); each subject's parameters are passed to it.
-_ANKLE_TEMPLATE = footed_model("study-ankle", FootedParams(feet="ankle", knee="free"))
-_TEMPLATES = {"walker": WALKER, "ankle": _ANKLE_TEMPLATE}
+#: Each cell's model structure (its features): the catalogue's; each subject's parameters are passed to it.
+_TEMPLATES = {"walker": WALKER, "ankle": ANKLE_FEET}
 
 
 # -- the lattice and the bases (no solver) ------------------------------------------------------
