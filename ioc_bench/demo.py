@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ioc_bench.features import COST_FEATURES, model_features
+from ioc_bench.features import COST_FEATURES, available_features, model_features
 from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import DEFAULT_MODEL, get_model
 from ioc_bench.model.gait_model import GaitParams
@@ -157,10 +157,8 @@ class Demonstration:
         model = get_model(meta.get("model", WALKER.name))  # a file from before models were named: the walker's
         params = model.params_from_dict(_object(meta["params"], "params"))
         _check_shapes(traj, model.linkage(params))
-        names = model_features(model)
         features = _numbers(meta["features"], "features")
-        if set(features) != set(names):
-            raise ValueError(f"features {sorted(features)} do not match {list(names)}")
+        names = _basis_names(model, features)
         weights = _numbers(meta["weights"], "weights")
         if any(w < 0 for w in weights.values()) or set(weights) - set(names):
             raise ValueError(f"weights must be non-negative, over {list(names)}: got {shown(weights)}")
@@ -189,6 +187,16 @@ class Demonstration:
             local_minimum=None if check is None else LocalMinimumCheck.from_dict(_object(check, "local_minimum")),
             seed=seed,
         )
+
+
+def _basis_names(model, features: dict[str, float]) -> tuple[str, ...]:
+    """The features a file of ``model`` may hold: every one of the model's default basis and,
+    for a step solved in a richer cost basis, any others the model has (``work``,
+    ``collision``); ``ValueError`` otherwise."""
+    names, extra = model_features(model), set(features) - set(model_features(model))
+    if not set(names) <= set(features) or extra - set(available_features(model)):
+        raise ValueError(f"features {sorted(features)} do not match {list(names)} (and the model's others)")
+    return (*names, *sorted(extra))
 
 
 def _read_arrays(path: Path, raw: bytes) -> dict[str, np.ndarray]:

@@ -174,3 +174,31 @@ def test_property_load_returns_a_demonstration_or_raises_demonstration_file_erro
         return
     assert isinstance(demo, Demonstration)
     assert all(np.isfinite(v) for v in demo.features.values()) and all(v >= 0 for v in demo.weights.values())
+
+
+def _with_features(arrays, features: dict, weights: dict | None = None):
+    meta = json.loads(str(arrays["meta"]))
+    meta["features"] = features
+    if weights is not None:
+        meta["weights"] = weights
+    arrays["meta"] = np.array(json.dumps(meta))
+    return arrays
+
+
+def test_a_step_solved_in_a_richer_basis_reads_back_and_a_foreign_feature_does_not(nominal_demo, tmp_path):
+    """A demonstration solved in a richer cost basis holds work (and collision) beside the
+    model's default features, and weights on them: it reads back (the demonstration cache
+    reuses it). A feature the model does not have, or a missing default one, is refused."""
+    arrays = _arrays(nominal_demo.save(tmp_path / "good.npz"))
+    richer = {**nominal_demo.features, "work": 0.5, "collision": 0.0}
+    good = tmp_path / "richer.npz"
+    np.savez(good, **_with_features(dict(arrays), richer, {**nominal_demo.weights, "work": 0.2}))
+    again = Demonstration.load(good)
+    assert again.features == richer and again.weights["work"] == 0.2
+    assert again.save(tmp_path / "again.npz") and Demonstration.load(tmp_path / "again.npz").features == richer
+    missing = {k: v for k, v in nominal_demo.features.items() if k != "torso"}
+    for i, features in enumerate(({**nominal_demo.features, "ankle": 1.0}, missing)):
+        bad = tmp_path / f"bad{i}.npz"
+        np.savez(bad, **_with_features(dict(arrays), features))
+        with pytest.raises(DemonstrationFileError, match="do not match"):
+            Demonstration.load(bad)
