@@ -22,7 +22,7 @@ import numpy as np
 from ioc_bench.features import COST_FEATURES, available_features, model_features
 from ioc_bench.fileio import atomic_write
 from ioc_bench.model.catalogue import DEFAULT_MODEL, get_model
-from ioc_bench.model.gait_model import GaitParams
+from ioc_bench.model.gait_model import GaitModel, GaitParams
 from ioc_bench.model.walker import WALKER
 from ioc_bench.paths import PathError, check_output_file, read_bytes
 from ioc_bench.task import Task
@@ -189,14 +189,14 @@ class Demonstration:
         )
 
 
-def _basis_names(model, features: dict[str, float]) -> tuple[str, ...]:
-    """The features a file of ``model`` may hold: every one of the model's default basis and,
-    for a step solved in a richer cost basis, any others the model has (``work``,
+def _basis_names(model: GaitModel, features: dict[str, float]) -> tuple[str, ...]:
+    """The features of a file of ``model``, in the model's order: every one of its default
+    basis and, for a step solved in a richer cost basis, others it has (``work``,
     ``collision``); ``ValueError`` otherwise."""
-    names, extra = model_features(model), set(features) - set(model_features(model))
-    if not set(names) <= set(features) or extra - set(available_features(model)):
+    names, available = model_features(model), available_features(model)
+    if not set(names) <= set(features) <= set(available):
         raise ValueError(f"features {sorted(features)} do not match {list(names)} (and the model's others)")
-    return (*names, *sorted(extra))
+    return tuple(f for f in available if f in features)
 
 
 def _read_arrays(path: Path, raw: bytes) -> dict[str, np.ndarray]:
